@@ -1,0 +1,191 @@
+"""Command line: argument parsing only. Heavy modules (numba, vtk, textual) load lazily, in
+the command that needs them, so `cloth-tui --help` answers at once.
+
+Exit status: 0 success, 2 bad input (one line on stderr), 1 anything unexpected.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+COMMANDS = ("render", "simulate", "bench", "accuracy", "scenes")
+
+
+class UsageError(Exception):
+    """Bad input from the user: reported as one line, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2, no usage dump
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def _add_scene_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
+    if optional:
+        p.add_argument("scene", nargs="?", default="default",
+                       help="scene file (.toml) or built-in scene name (default: default)")
+    else:
+        p.add_argument("scene", help="scene file (.toml) or built-in scene name")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                   help="override one scene key, e.g. --set forces.wind=true (repeatable)")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be ≥ 1")
+    return v
+
+
+def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
+    app = _Parser(prog="cloth-tui",
+                  description="A cloth simulator in your terminal. Without a command, opens the "
+                              "app on SCENE. Commands: " + ", ".join(COMMANDS) +
+                              " (cloth-tui COMMAND --help for each).")
+    _add_scene_args(app, optional=True)
+    app.add_argument("--captures", default="captures", metavar="DIR",
+                     help="folder for screenshots, videos, the preview file and saved scenes "
+                          "(default: ./captures)")
+
+    cmd = _Parser(prog="cloth-tui")
+    sub = cmd.add_subparsers(dest="command", parser_class=_Parser)
+
+    p = sub.add_parser("simulate", help="run a scene headless and print a summary of the state")
+    _add_scene_args(p)
+    p.add_argument("--frames", type=_positive_int, default=120, help="frames to simulate")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--dump", metavar="FILE.npz", help="write final positions and resolution")
+
+    p = sub.add_parser("render", help="render a scene headless to PNG, MP4 or GIF")
+    _add_scene_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="OUT.png (last frame), OUT.mp4 or OUT.gif")
+    p.add_argument("--frames", type=_positive_int, default=None,
+                   help="frames to simulate (default: 1 for PNG, 90 for video)")
+    p.add_argument("--size", default="640x480", metavar="WxH", help="image size in pixels")
+    p.add_argument("--fps", type=_positive_int, default=30, help="video frames per second")
+
+    p = sub.add_parser("scenes", help="list the built-in scenes")
+
+    p = sub.add_parser("bench", help="performance benchmarks (numbers, not tests)")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--quick", action="store_true", help="fewer sizes and repetitions")
+    p.add_argument("--breakdown", metavar="SCENE", help="time each effect of SCENE's step")
+
+    p = sub.add_parser("accuracy", help="work-precision study of solvers and integrators")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--quick", action="store_true", help="a smaller study (under a minute)")
+    p.add_argument("--plot", metavar="OUT.png", help="draw the work-precision diagram")
+    return app, cmd
+
+
+def load_scene(ref: str, overrides: list[str]):
+    from .scene import apply_overrides, load
+    return apply_overrides(load(ref), overrides)
+
+
+def cmd_scenes(args) -> int:
+    from .scene import builtin_scenes
+    for name, path in builtin_scenes().items():
+        first = path.read_text(encoding="utf-8").splitlines()[0:1]
+        doc = first[0].lstrip("# ").strip() if first and first[0].startswith("#") else ""
+        print(f"{name:<18} {doc}")
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    import json
+
+    import numpy as np
+
+    scene = load_scene(args.scene, args.overrides)
+    if args.dump:
+        _check_writable(Path(args.dump), (".npz",))
+    from .sim.runner import Simulation
+
+    sim = Simulation(scene)
+    sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
+    sim.reset()
+    for _ in range(args.frames):
+        sim.advance_frame()
+    stats = sim.stats()
+    if args.dump:
+        from .util import atomic_write
+        with atomic_write(Path(args.dump)) as fh:
+            np.savez(fh, positions=sim.state.x, resolution=np.int64(sim.model.n))
+    if args.json:
+        print(json.dumps(stats))
+    else:
+        for k, v in stats.items():
+            print(f"{k:>13}: {v}")
+    return 0
+
+
+def _check_writable(path: Path, suffixes: tuple[str, ...]) -> None:
+    if path.suffix.lower() not in suffixes:
+        raise UsageError(f"{path}: unsupported file type; use {', '.join(suffixes)}")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise UsageError(f"{path}: folder {parent} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise UsageError(f"{path}: folder {parent} is not writable")
+
+
+def cmd_render(args) -> int:
+    from .render.cli import run_render
+    return run_render(args, load_scene, _check_writable, UsageError)
+
+
+def cmd_bench(args) -> int:
+    from .bench.cli import run_bench
+    return run_bench(args, load_scene)
+
+
+def cmd_accuracy(args) -> int:
+    from .bench.accuracy_cli import run_accuracy
+    return run_accuracy(args)
+
+
+def cmd_app(args) -> int:
+    scene = load_scene(args.scene, args.overrides)
+    from .tui.app import run_app
+    return run_app(scene, Path(args.captures))
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    from .scene import SceneError
+
+    app_parser, cmd_parser = build_parsers()
+    try:
+        if argv and argv[0] in COMMANDS:
+            args = cmd_parser.parse_args(argv)
+            handler = globals()[f"cmd_{args.command}"]
+        else:
+            args = app_parser.parse_args(argv)
+            handler = cmd_app
+        return handler(args)
+    except (UsageError, SceneError) as e:
+        print(f"cloth-tui: error: {e}".replace("cloth-tui: error: cloth-tui", "cloth-tui"),
+              file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("cloth-tui: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as e:  # a bug, not bad input: keep the details, show one line
+        import tempfile
+        import traceback
+        fd, log = tempfile.mkstemp(prefix="cloth-tui-crash-", suffix=".log")
+        with os.fdopen(fd, "w") as fh:
+            traceback.print_exc(file=fh)
+        print(f"cloth-tui: internal error: {type(e).__name__}: {e} (traceback in {log})",
+              file=sys.stderr)
+        return 1

@@ -1,0 +1,444 @@
+"""The scene schema: typed dataclasses, TOML load/save, `--set` overrides and validation.
+
+Every key is declared once, with its default, unit, allowed range and help text, in the
+field metadata below. Validation, the README's key reference and the TUI's panels all read
+that one declaration, so they cannot drift apart.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import os
+import re
+import tempfile
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
+ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
+SCENES_DIR = ASSETS_DIR / "scenes"
+TEXTURES_DIR = ASSETS_DIR / "textures"
+MAX_RESOLUTION = 512
+ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
+
+
+class SceneError(ValueError):
+    """A scene document, value or override that cannot be accepted. The message is one line."""
+
+
+def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
+        hi: float | None = None, lo_open: bool = False, hi_open: bool = False,
+        choices: tuple[str, ...] | None = None, kind: str = "") -> Any:
+    """Declare a scene key: default, help text, unit and what values are allowed."""
+    meta = dict(doc=doc, unit=unit, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open,
+                choices=choices, kind=kind)
+    if isinstance(default, list):
+        return field(default_factory=lambda: list(default), metadata=meta)
+    return field(default=default, metadata=meta)
+
+
+def vec3(default: list[float], doc: str, *, unit: str = "", nonzero: bool = False) -> Any:
+    return key(default, doc, unit=unit, kind="vec3_nonzero" if nonzero else "vec3")
+
+
+PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
+SOLVERS = ("pbd", "xpbd", "springs")
+INTEGRATORS = ("verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4", "implicit_euler")
+OBJECT_TYPES = ("sphere", "box", "plane", "capsule")
+CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
+
+
+@dataclass
+class Cloth:
+    size: float = key(1.0, "side of the square sheet", unit="m", lo=0.01, hi=100.0)
+    resolution: int = key(26, "particles per side (the original's 500 → 26)", lo=2, hi=MAX_RESOLUTION)
+    pinned: str = key("corners", "which particles are held fixed", choices=PIN_MODES)
+    pin_fraction: float = key(0.05, "share of particles pinned when pinned = \"random\"",
+                              lo=0.0, hi=1.0)
+    mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=0.0, lo_open=True, hi=1e6)
+    height: float = key(0.25, "initial height of the flat, horizontal sheet", unit="m",
+                        lo=-1e3, hi=1e3)
+
+
+@dataclass
+class Forces:
+    integrate: bool = key(True, "advance the simulation (off freezes the sheet, as in the original)")
+    gravity: bool = key(True, "apply gravity")
+    gravity_strength: float = key(9.81, "gravitational acceleration, downward (−y)", unit="m/s²",
+                                  lo=0.0, hi=1e4)
+    wind: bool = key(False, "apply aerodynamic wind force")
+    wind_strength: float = key(5.0, "air speed", unit="m/s", lo=0.0, hi=500.0)
+    wind_direction: list = vec3([0.0, 0.0, 1.0], "direction the air moves (normalised)",
+                                nonzero=True)
+    wind_mode: str = key("constant", "constant air speed, or gusty (sinusoidal in time)",
+                         choices=("constant", "gusty"))
+    custom: str = key("none", "custom force field", choices=CUSTOM_FIELDS)
+    custom_strength: float = key(10.0, "strength of the custom field", unit="m/s²",
+                                 lo=0.0, hi=1e5)
+    custom_rate: float = key(0.5, "how fast the custom field varies in time", unit="Hz",
+                             lo=0.0, hi=1e3)
+    rain: bool = key(False, "rain drops strike random particles")
+    rain_strength: float = key(0.01, "downward displacement of the struck particle", unit="m",
+                               lo=0.0, hi=10.0)
+    rain_rate: float = key(20.0, "drops per second", unit="1/s", lo=0.0, hi=1e5)
+
+
+@dataclass
+class SceneObject:
+    type: str = key("sphere", "shape of the object", choices=OBJECT_TYPES)
+    center: list = vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)", unit="m")
+    radius: float = key(0.25, "radius (sphere, capsule)", unit="m", lo=0.0, lo_open=True, hi=1e3)
+    size: list = vec3([0.5, 0.2, 0.5], "box sides; capsule: size[1] is the axis length", unit="m")
+    normal: list = vec3([0.0, 1.0, 0.0], "plane normal; capsule axis", nonzero=True)
+    friction: float = key(-1.0, "friction 0–1 (−1: use scene.friction)", lo=-1.0, hi=1.0)
+    motion: str = key("static", "static, or orbit (the original's slow circle)",
+                      choices=("static", "orbit"))
+
+
+@dataclass
+class SceneSection:
+    floor: bool = key(True, "collide with the floor")
+    floor_height: float = key(-0.5, "height of the floor", unit="m", lo=-1e3, hi=1e3)
+    object: str = key("none", "the original's single object", choices=("none",) + OBJECT_TYPES)
+    friction: float = key(0.9, "friction factor of objects and floor (original's rule)",
+                          lo=0.0, hi=1.0)
+    moving: bool = key(False, "the object follows the original's slow orbit")
+    thickness: float = key(0.005, "collision skin kept between cloth and objects", unit="m",
+                           lo=0.0, hi=1.0)
+
+
+@dataclass
+class Behavior:
+    structural: bool = key(True, "structural constraints (1-away in row and column)")
+    shear: bool = key(True, "shear constraints (1-away diagonally)")
+    bending: bool = key(True, "bending constraints (2-away in row and column)")
+    iterations: int = key(4, "constraint passes per substep", lo=1, hi=1000)
+    substeps: int = key(4, "substeps per frame", lo=1, hi=1000)
+    frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=0.0,
+                            lo_open=True, hi=10000.0)
+    damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
+                         lo=0.0, hi=1.0, hi_open=True)
+    solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
+                      choices=SOLVERS)
+    integrator: str = key("verlet", "time integrator (pbd/xpbd use verlet)", choices=INTEGRATORS)
+    compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,
+                            hi=1.0)
+    stiffness: float = key(2000.0, "springs: spring constant", unit="N/m", lo=0.0,
+                           lo_open=True, hi=1e9)
+    spring_damping: float = key(0.5, "springs: damping along each spring", unit="N·s/m",
+                                lo=0.0, hi=1e6)
+    self_collision: str = key("off", "keep the sheet from passing through itself",
+                              choices=("off", "naive", "hash"))
+    max_speed: float = key(50.0, "particle speed limit (guards against tunnelling)",
+                           unit="m/s", lo=0.0, lo_open=True, hi=1e5)
+    wave: bool = key(False, "drive one edge up and down, hold the opposite edge")
+    wave_amplitude: float = key(0.1, "wave amplitude", unit="m", lo=0.0, hi=100.0)
+    wave_frequency: float = key(1.0, "wave frequency", unit="Hz", lo=0.0, hi=100.0)
+    seed: int = key(0, "seed of every random choice (random pins, rain)", lo=0, hi=2**63 - 1)
+
+
+@dataclass
+class Appearance:
+    wireframe: bool = key(True, "draw the cloth as a wireframe")
+    auto_rotate: bool = key(False, "orbit the camera")
+    show_constraints: bool = key(False, "draw constraints coloured by family")
+    cloth_color: str = key("#aa2929", "cloth colour", kind="color")
+    cloth_specular: str = key("#030303", "cloth reflection (specular colour)", kind="color")
+    ground_color: str = key("#404761", "ground colour", kind="color")
+    ground_emissive: str = key("#000000", "ground emission colour", kind="color")
+    fog_color: str = key("#cce0ff", "background / fog colour", kind="color")
+    cloth_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
+                             kind="texture")
+    ground_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
+                              kind="texture")
+
+
+@dataclass
+class Scene:
+    cloth: Cloth = field(default_factory=Cloth)
+    forces: Forces = field(default_factory=Forces)
+    scene: SceneSection = field(default_factory=SceneSection)
+    behavior: Behavior = field(default_factory=Behavior)
+    appearance: Appearance = field(default_factory=Appearance)
+    objects: list[SceneObject] = field(default_factory=list)
+    name: str = field(default="default", compare=False)
+
+    def copy(self) -> "Scene":
+        return copy.deepcopy(self)
+
+    def get(self, dotted: str) -> Any:
+        section, name = _split_key(dotted)
+        return getattr(getattr(self, section), name)
+
+    def with_value(self, dotted: str, value: Any) -> "Scene":
+        """A validated copy with one key changed; raises SceneError and leaves self untouched."""
+        section, name = _split_key(dotted)
+        new = self.copy()
+        sec = getattr(new, section)
+        setattr(sec, name, _coerce(sec, name, value, dotted))
+        validate(new)
+        return new
+
+
+SECTION_TYPES = {"cloth": Cloth, "forces": Forces, "scene": SceneSection,
+                 "behavior": Behavior, "appearance": Appearance}
+
+
+def key_spec(dotted: str) -> dataclasses.Field:
+    section, name = _split_key(dotted)
+    return {f.name: f for f in dataclasses.fields(SECTION_TYPES[section])}[name]
+
+
+def all_keys() -> list[str]:
+    return [f"{s}.{f.name}" for s in SECTIONS for f in dataclasses.fields(SECTION_TYPES[s])]
+
+
+def _split_key(dotted: str) -> tuple[str, str]:
+    parts = dotted.split(".")
+    if len(parts) != 2 or parts[0] not in SECTION_TYPES:
+        raise SceneError(f"unknown key {dotted!r}: expected SECTION.KEY with SECTION one of "
+                         f"{', '.join(SECTIONS)}")
+    names = [f.name for f in dataclasses.fields(SECTION_TYPES[parts[0]])]
+    if parts[1] not in names:
+        raise SceneError(f"unknown key {dotted!r}: [{parts[0]}] has {', '.join(names)}")
+    return parts[0], parts[1]
+
+
+def _describe_allowed(f: dataclasses.Field) -> str:
+    m = f.metadata
+    if m["choices"]:
+        return "one of " + ", ".join(m["choices"])
+    if m["kind"] == "color":
+        return "a colour #rrggbb"
+    if m["kind"].startswith("vec3"):
+        return "[x, y, z] of finite numbers" + (", not all zero" if "nonzero" in m["kind"] else "")
+    t = f.type if isinstance(f.type, str) else f.type.__name__
+    lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
+    hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
+    kind = {"bool": "true or false", "int": "an integer", "float": "a number",
+            "str": "a string"}.get(t, t)
+    return f"{kind}{' with ' + lo + 'value' + hi if (lo or hi) else ''}"
+
+
+def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
+    """Check one value against its declaration; return it in its canonical Python type."""
+    f = {f.name: f for f in dataclasses.fields(section_obj)}[name]
+    m, t = f.metadata, (f.type if isinstance(f.type, str) else f.type.__name__)
+
+    def bad(reason: str = "") -> SceneError:
+        shown = repr(value)
+        if len(shown) > 60:
+            shown = shown[:57] + "..."
+        return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
+                          f"expected {_describe_allowed(f)}")
+
+    if m["kind"].startswith("vec3"):
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise bad()
+        out = []
+        for v in value:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise bad()
+            out.append(float(v))
+        if "nonzero" in m["kind"] and not any(out):
+            raise bad("zero-length direction")
+        if any(abs(v) > 1e6 for v in out):
+            raise bad("too large")
+        return out
+    if t == "bool":
+        if not isinstance(value, bool):
+            raise bad()
+        return value
+    if t == "str":
+        if not isinstance(value, str):
+            raise bad()
+        if m["choices"] and value not in m["choices"]:
+            raise bad()
+        if m["kind"] == "color" and not re.fullmatch(r"#[0-9a-fA-F]{6}", value):
+            raise bad()
+        if m["kind"] == "texture":
+            _check_texture(value, bad)
+        return value
+    if t in ("int", "float"):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise bad()
+        if t == "int":
+            if isinstance(value, float):
+                if not (math.isfinite(value) and value.is_integer()):
+                    raise bad()
+                value = int(value)
+        else:
+            value = float(value)
+            if not math.isfinite(value):
+                raise bad()
+        lo, hi = m["lo"], m["hi"]
+        if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
+            raise bad()
+        if hi is not None and (value > hi or (m["hi_open"] and value == hi)):
+            raise bad()
+        return value
+    raise bad()
+
+
+def _check_texture(value: str, bad) -> None:
+    if value in ("none", "maze", "grass"):
+        return
+    if not value.lower().endswith(".png"):
+        raise bad()
+    if not Path(value).expanduser().is_file():
+        raise bad("file not found")
+
+
+def validate(scene: Scene) -> None:
+    """Checks that involve more than one key."""
+    b = scene.behavior
+    if b.solver in ("pbd", "xpbd") and b.integrator != "verlet":
+        raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
+                         f"\"springs\"; {b.solver} predicts positions with verlet")
+    n = scene.cloth.resolution
+    if b.self_collision == "naive" and n > 128:
+        raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "
+                         f"cloth.resolution ≤ 128 (got {n}); use \"hash\"")
+
+
+def _section_from_dict(cls: type, data: Any, where: str) -> Any:
+    if not isinstance(data, dict):
+        raise SceneError(f"[{where}] must be a table, got {type(data).__name__}")
+    obj = cls()
+    names = [f.name for f in dataclasses.fields(cls)]
+    for k, v in data.items():
+        if k not in names:
+            raise SceneError(f"unknown key {where}.{k}: [{where}] has {', '.join(names)}")
+        setattr(obj, k, _coerce(obj, k, v, f"{where}.{k}"))
+    return obj
+
+
+def from_dict(data: dict, name: str = "scene") -> Scene:
+    if not isinstance(data, dict):
+        raise SceneError("a scene must be a table of sections")
+    scene = Scene(name=name)
+    for k, v in data.items():
+        if k in SECTION_TYPES:
+            setattr(scene, k, _section_from_dict(SECTION_TYPES[k], v, k))
+        elif k == "objects":
+            if not isinstance(v, list):
+                raise SceneError("objects must be an array of tables ([[objects]])")
+            if len(v) > 64:
+                raise SceneError(f"objects: {len(v)} objects; at most 64 are allowed")
+            scene.objects = [_section_from_dict(SceneObject, o, f"objects[{i}]")
+                             for i, o in enumerate(v)]
+        else:
+            raise SceneError(f"unknown section [{k}]: allowed are {', '.join(SECTIONS)}, "
+                             "[[objects]]")
+    validate(scene)
+    return scene
+
+
+def to_dict(scene: Scene, only_changed: bool = False) -> dict:
+    default = Scene()
+    out: dict[str, Any] = {}
+    for s in SECTIONS:
+        sec, dsec = getattr(scene, s), getattr(default, s)
+        d = {f.name: getattr(sec, f.name) for f in dataclasses.fields(sec)
+             if not only_changed or getattr(sec, f.name) != getattr(dsec, f.name)}
+        if d:
+            out[s] = d
+    if scene.objects:
+        out["objects"] = [dataclasses.asdict(o) for o in scene.objects]
+    return out
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {type(v).__name__} to TOML")
+
+
+def dumps(scene: Scene) -> str:
+    lines = [f"# cloth-tui scene: {scene.name}"]
+    for section, values in to_dict(scene).items():
+        if section == "objects":
+            for obj in values:
+                lines += ["", "[[objects]]"] + [f"{k} = {_toml_value(v)}" for k, v in obj.items()]
+        else:
+            lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def loads(text: str, name: str = "scene") -> Scene:
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError(f"{name}: TOML syntax error: {e}") from None
+    return from_dict(data, name)
+
+
+def builtin_scenes() -> dict[str, Path]:
+    return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
+
+
+def load(ref: str | os.PathLike) -> Scene:
+    """Load a scene from a path, or by the name of a built-in scene."""
+    path = Path(ref)
+    if not path.suffix and str(ref) in builtin_scenes():
+        path = builtin_scenes()[str(ref)]
+    if not path.is_file():
+        names = ", ".join(builtin_scenes())
+        raise SceneError(f"scene {str(ref)!r} not found: not a file, nor a built-in scene "
+                         f"({names})")
+    try:
+        raw = path.read_bytes()
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}: not a UTF-8 text file") from None
+    except OSError as e:
+        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+    return loads(text, name=path.stem)
+
+
+def save(scene: Scene, path: str | os.PathLike) -> Path:
+    """Write atomically: a temp file in the same folder, then rename."""
+    path = Path(path)
+    text = dumps(scene)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        raise SceneError(f"cannot write {path}: {e.strerror}") from None
+    return path
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """`section.key=value`: the value is read as TOML, or as a bare string if that fails."""
+    if not isinstance(text, str) or "=" not in text:
+        raise SceneError(f"--set {text!r}: expected SECTION.KEY=VALUE")
+    dotted, raw = text.split("=", 1)
+    dotted, raw = dotted.strip(), raw.strip()
+    _split_key(dotted)
+    if raw == "":
+        raise SceneError(f"--set {text!r}: missing value after '='")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return dotted, value
+
+
+def apply_overrides(scene: Scene, overrides: list[str] | None) -> Scene:
+    for text in overrides or []:
+        dotted, value = parse_override(text)
+        scene = scene.with_value(dotted, value)
+    return scene

@@ -1,0 +1,150 @@
+"""ClothModel: what does not change while a sheet simulates.
+
+Grid topology, rest lengths, constraint families, a conflict-free colouring for Gauss-Seidel
+projection, pins and masses. Particle (row i, column j) has index i*n + j; the sheet lies in the
+x-z plane at height `cloth.height`, centred on the y axis, x growing with j and z with i.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+FAMILIES = ("structural", "shear", "bending")
+STRUCTURAL, SHEAR, BENDING = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class ClothModel:
+    n: int                      # particles per side
+    size: float                 # m
+    rest_positions: np.ndarray  # (N, 3) float64, the flat start
+    mass: np.ndarray            # (N,) kg per particle
+    inv_mass: np.ndarray        # (N,) 1/kg, 0 for pinned particles
+    pinned: np.ndarray          # (K,) int64 indices of pinned particles
+    edges: np.ndarray           # (M, 2) int64 enabled constraints, sorted by colour
+    rest_length: np.ndarray     # (M,) m
+    family: np.ndarray          # (M,) int8: 0 structural, 1 shear, 2 bending
+    color_offsets: np.ndarray   # (C+1,) int64: constraints of colour c are [off[c], off[c+1])
+    triangles: np.ndarray       # (T, 3) int64, two per grid cell, for rendering and wind
+
+    @property
+    def num_particles(self) -> int:
+        return self.n * self.n
+
+    @property
+    def num_constraints(self) -> int:
+        return len(self.edges)
+
+    @property
+    def spacing(self) -> float:
+        return self.size / (self.n - 1)
+
+    def index(self, i: int, j: int) -> int:
+        return i * self.n + j
+
+
+def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
+    """Constraint pairs of an n×n grid for the enabled families, and each pair's family."""
+    idx = np.arange(n * n).reshape(n, n)
+    pairs, fam = [], []
+
+    def add(a: np.ndarray, b: np.ndarray, f: int) -> None:
+        pairs.append(np.stack([a.ravel(), b.ravel()], axis=1))
+        fam.append(np.full(a.size, f, dtype=np.int8))
+
+    if families[STRUCTURAL]:
+        add(idx[:, :-1], idx[:, 1:], STRUCTURAL)
+        add(idx[:-1, :], idx[1:, :], STRUCTURAL)
+    if families[SHEAR]:
+        add(idx[:-1, :-1], idx[1:, 1:], SHEAR)
+        add(idx[:-1, 1:], idx[1:, :-1], SHEAR)
+    if families[BENDING]:
+        add(idx[:, :-2], idx[:, 2:], BENDING)
+        add(idx[:-2, :], idx[2:, :], BENDING)
+    if not pairs:
+        return np.zeros((0, 2), np.int64), np.zeros(0, np.int8)
+    return np.concatenate(pairs).astype(np.int64), np.concatenate(fam)
+
+
+def _color_edges_grid(edges: np.ndarray, family: np.ndarray, n: int) -> np.ndarray:
+    """Closed-form colouring for grid constraints: 2 colours per direction, 12 in all.
+    No two constraints of one colour share a particle, so a colour can be projected in
+    parallel without races (Gauss-Seidel between colours)."""
+    a, b = edges[:, 0], edges[:, 1]
+    ia, ja, ib, jb = a // n, a % n, b // n, b % n
+    color = np.empty(len(edges), np.int64)
+    horiz = ia == ib
+    vert = ja == jb
+    diag = (ib == ia + 1) & (jb == ja + 1)
+    anti = (ib == ia + 1) & (jb == ja - 1)
+    s = family == STRUCTURAL
+    bend = family == BENDING
+    color[s & horiz] = ja[s & horiz] % 2
+    color[s & vert] = 2 + ia[s & vert] % 2
+    color[diag] = 4 + ia[diag] % 2
+    color[anti] = 6 + ia[anti] % 2
+    color[bend & horiz] = 8 + (ja[bend & horiz] // 2) % 2
+    color[bend & vert] = 10 + (ia[bend & vert] // 2) % 2
+    return color
+
+
+def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> np.ndarray:
+    """The pinned particles of each mode. Edges are rows/columns of the grid:
+    one_edge = row 0 (the far edge, z = −size/2); two_edges = rows 0 and n−1;
+    four_edges = the whole border; random = `fraction` of all particles, chosen by `seed`."""
+    idx = np.arange(n * n).reshape(n, n)
+    if mode == "none":
+        sel = np.zeros(0, np.int64)
+    elif mode == "corners":
+        sel = np.array([idx[0, 0], idx[0, -1], idx[-1, 0], idx[-1, -1]])
+    elif mode == "one_edge":
+        sel = idx[0, :]
+    elif mode == "two_edges":
+        sel = np.concatenate([idx[0, :], idx[-1, :]])
+    elif mode == "four_edges":
+        sel = np.concatenate([idx[0, :], idx[-1, :], idx[1:-1, 0], idx[1:-1, -1]])
+    elif mode == "random":
+        rng = np.random.default_rng(seed)
+        count = int(round(fraction * n * n))
+        sel = rng.choice(n * n, size=count, replace=False) if count else np.zeros(0, np.int64)
+    else:
+        raise ValueError(f"unknown pin mode {mode!r}")
+    return np.unique(np.asarray(sel, dtype=np.int64))
+
+
+def grid_triangles(n: int) -> np.ndarray:
+    idx = np.arange(n * n).reshape(n, n)
+    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
+    # Alternate the diagonal per cell so the mesh has no preferred shear direction.
+    t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
+    t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
+    return np.concatenate([t1, t2]).astype(np.int64)
+
+
+def build_model(cloth, behavior) -> ClothModel:
+    """Build the model from the scene's [cloth] and [behavior] sections."""
+    n, size = cloth.resolution, cloth.size
+    u = np.linspace(-size / 2, size / 2, n)
+    zz, xx = np.meshgrid(u, u, indexing="ij")
+    rest = np.stack([xx.ravel(), np.full(n * n, cloth.height), zz.ravel()], axis=1)
+
+    families = (behavior.structural, behavior.shear, behavior.bending)
+    edges, family = grid_edges(n, families)
+    colors = _color_edges_grid(edges, family, n)
+    order = np.argsort(colors, kind="stable")
+    edges, family, colors = edges[order], family[order], colors[order]
+    counts = np.bincount(colors, minlength=12) if len(colors) else np.zeros(0, np.int64)
+    offsets = np.concatenate([[0], np.cumsum(counts[counts > 0])]).astype(np.int64)
+    rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
+
+    pins = pinned_indices(n, cloth.pinned, behavior.seed, cloth.pin_fraction)
+    mass = np.full(n * n, cloth.mass / (n * n))
+    inv_mass = 1.0 / mass
+    inv_mass[pins] = 0.0
+    for arr in (rest, mass, inv_mass, pins, edges, rest_length, family, offsets):
+        arr.setflags(write=False)
+    return ClothModel(n=n, size=size, rest_positions=rest, mass=mass, inv_mass=inv_mass,
+                      pinned=pins, edges=np.ascontiguousarray(edges), rest_length=rest_length,
+                      family=family, color_offsets=offsets, triangles=grid_triangles(n))

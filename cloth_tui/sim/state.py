@@ -1,0 +1,39 @@
+"""ClothState: what changes as the sheet simulates."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import ClothModel
+
+
+@dataclass
+class ClothState:
+    x: np.ndarray       # (N, 3) positions, m
+    x_prev: np.ndarray  # (N, 3) positions at the start of the current substep, m
+    v: np.ndarray       # (N, 3) velocities, m/s
+    accel: np.ndarray   # (N, 3) accumulated external acceleration of this substep, m/s²
+    anchors: np.ndarray  # (K, 3) where the pinned particles are held (moved by the wave)
+    t: float = 0.0      # simulated time, s
+    steps: int = 0      # substeps taken
+
+    @classmethod
+    def from_model(cls, model: ClothModel) -> "ClothState":
+        x = np.array(model.rest_positions, dtype=np.float64)
+        return cls(x=x, x_prev=x.copy(), v=np.zeros_like(x), accel=np.zeros_like(x),
+                   anchors=x[model.pinned].copy())
+
+    def copy(self) -> "ClothState":
+        return ClothState(self.x.copy(), self.x_prev.copy(), self.v.copy(), self.accel.copy(),
+                          self.anchors.copy(), self.t, self.steps)
+
+    def restore(self, other: "ClothState") -> None:
+        """Copy another state into this one's arrays (kernels keep their references)."""
+        for name in ("x", "x_prev", "v", "accel", "anchors"):
+            getattr(self, name)[...] = getattr(other, name)
+        self.t, self.steps = other.t, other.steps
+
+    def is_finite(self) -> bool:
+        return bool(np.isfinite(self.x).all() and np.isfinite(self.v).all())

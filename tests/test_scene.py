@@ -1,0 +1,67 @@
+import pytest
+
+from cloth_tui import scene as sc
+from cloth_tui.scene import Scene, SceneError
+
+
+def test_defaults_keep_the_originals_proportions():
+    s = Scene()
+    assert s.cloth.size == 1.0 and s.cloth.resolution == 26 and s.cloth.pinned == "corners"
+    assert s.behavior.damping == 0.03 and s.behavior.solver == "pbd"
+    assert s.behavior.integrator == "verlet"
+    assert s.forces.gravity_strength == 9.81
+
+
+def test_builtin_default_is_addressable_by_name():
+    assert "default" in sc.builtin_scenes()
+    assert sc.load("default").cloth.resolution == 26
+
+
+def test_save_and_load_round_trip(tmp_path):
+    s = Scene().with_value("forces.wind", True).with_value("cloth.resolution", 40)
+    s.objects.append(sc.SceneObject(type="box", center=[0.1, 0.0, 0.0]))
+    path = sc.save(s, tmp_path / "mine.toml")
+    back = sc.load(path)
+    assert back == s
+
+
+@pytest.mark.parametrize("text, words", [
+    ("[cloth\n", ["syntax"]),
+    ("[cloth]\nbogus = 1\n", ["cloth.bogus", "size"]),
+    ("[cloth]\nsize = \"big\"\n", ["cloth.size", "'big'", "number"]),
+    ("[cloth]\nresolution = 1\n", ["cloth.resolution", "2"]),
+    ("[behavior]\ndamping = 1.0\n", ["behavior.damping", "< 1"]),
+    ("[forces]\nwind_direction = [0, 0, 0]\n", ["wind_direction", "zero"]),
+    ("[nope]\n", ["[nope]"]),
+    ("[[objects]]\ntype = \"torus\"\n", ["objects[0].type", "sphere"]),
+    ("[appearance]\ncloth_color = \"red\"\n", ["cloth_color", "#rrggbb"]),
+    ("[behavior]\nsolver = \"pbd\"\nintegrator = \"rk4\"\n", ["integrator", "springs"]),
+])
+def test_bad_documents_name_the_problem(text, words):
+    with pytest.raises(SceneError) as e:
+        sc.loads(text)
+    msg = str(e.value)
+    assert "\n" not in msg
+    for w in words:
+        assert w in msg
+
+
+def test_overrides_parse_toml_values_and_bare_strings():
+    s = sc.apply_overrides(Scene(), ["forces.wind=true", "cloth.pinned=one_edge",
+                                     "forces.wind_direction=[1, 0, 0]", "cloth.size=2"])
+    assert s.forces.wind is True and s.cloth.pinned == "one_edge"
+    assert s.forces.wind_direction == [1.0, 0.0, 0.0] and s.cloth.size == 2.0
+
+
+@pytest.mark.parametrize("bad", ["nokey", "cloth.size", "cloth.size=", "x.y=1", "cloth.nope=1",
+                                 "cloth.size=nan", "cloth.resolution=2.5"])
+def test_malformed_overrides_raise_scene_error(bad):
+    with pytest.raises(SceneError):
+        sc.apply_overrides(Scene(), [bad])
+
+
+def test_with_value_leaves_original_untouched():
+    s = Scene()
+    with pytest.raises(SceneError):
+        s.with_value("cloth.size", -3)
+    assert s.cloth.size == 1.0
