@@ -1,0 +1,76 @@
+"""The plain-NumPy form of the bare step, kept only as a benchmark baseline.
+
+Same algorithm as the compiled step (Verlet with damping and a speed clamp, gravity, coloured
+Gauss-Seidel projection of the three families, pins) written with strided slices of the
+(n, n, 3) grid: every colour of `model._color_edges_grid` is one or two slice pairs, so the
+two forms visit constraints in the same colour order and give the same positions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..sim.model import ClothModel
+from ..sim.solvers import damping_factor
+
+
+def _slice_pairs(n: int, families: tuple[bool, bool, bool]) -> list[tuple]:
+    """(a, b, family) index pairs into the grid, in the compiled step's colour order."""
+    s = slice
+    out = []
+    if families[0]:
+        out += [((s(None), s(0, n - 1, 2)), (s(None), s(1, n, 2)), 0),
+                ((s(None), s(1, n - 1, 2)), (s(None), s(2, n, 2)), 0),
+                ((s(0, n - 1, 2), s(None)), (s(1, n, 2), s(None)), 0),
+                ((s(1, n - 1, 2), s(None)), (s(2, n, 2), s(None)), 0)]
+    if families[1]:
+        out += [((s(0, n - 1, 2), s(0, n - 1)), (s(1, n, 2), s(1, n)), 1),
+                ((s(1, n - 1, 2), s(0, n - 1)), (s(2, n, 2), s(1, n)), 1),
+                ((s(0, n - 1, 2), s(1, n)), (s(1, n, 2), s(0, n - 1)), 1),
+                ((s(1, n - 1, 2), s(1, n)), (s(2, n, 2), s(0, n - 1)), 1)]
+    if families[2]:
+        # colour (j // 2) % 2 holds j ≡ 0, 1 (mod 4) then j ≡ 2, 3: four stride-4 slices
+        for r in range(4):
+            out.append(((s(None), s(r, n - 2, 4)), (s(None), s(r + 2, n, 4)), 2))
+        for r in range(4):
+            out.append(((s(r, n - 2, 4), s(None)), (s(r + 2, n, 4), s(None)), 2))
+    return out
+
+
+class NumpyStep:
+    """One substep of the bare scene (gravity, no floor) on plain NumPy arrays."""
+
+    def __init__(self, model: ClothModel, h: float, iterations: int, damping: float,
+                 gravity: float, max_speed: float):
+        n = model.n
+        self.n, self.h, self.iterations = n, h, iterations
+        self.keep = damping_factor(damping, h)
+        self.g = np.array([0.0, -gravity, 0.0])
+        self.max_speed = max_speed
+        self.w = model.inv_mass.reshape(n, n, 1)
+        self.moving = (model.inv_mass > 0)[:, None]
+        families = tuple(bool(np.any(model.family == f)) for f in range(3))
+        spacing = model.spacing
+        rest = (spacing, spacing * np.sqrt(2.0), 2.0 * spacing)
+        self.pairs = [(a, b, rest[f], self.w[a], self.w[b]) for a, b, f in _slice_pairs(n, families)]
+        self.pinned = model.pinned
+
+    def substep(self, x: np.ndarray, x_prev: np.ndarray, v: np.ndarray,
+                anchors: np.ndarray) -> None:
+        h = self.h
+        vel = v * self.keep
+        speed = np.sqrt(np.einsum("ij,ij->i", vel, vel))[:, None]
+        vel *= np.minimum(1.0, self.max_speed / np.maximum(speed, 1e-300))
+        x_prev[...] = x
+        x += np.where(self.moving, vel * h + self.g * (h * h), 0.0)
+        grid = x.reshape(self.n, self.n, 3)
+        for _ in range(self.iterations):
+            for a, b, rest, wa, wb in self.pairs:
+                d = grid[b] - grid[a]
+                length = np.sqrt(np.einsum("...k,...k->...", d, d))[..., None]
+                w = wa + wb
+                s = np.where(w > 0, (length - rest) / np.maximum(length * w, 1e-300), 0.0)
+                grid[a] += wa * s * d
+                grid[b] -= wb * s * d
+        x[self.pinned] = anchors
+        v[...] = (x - x_prev) / h
