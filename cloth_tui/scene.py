@@ -442,3 +442,24 @@ def apply_overrides(scene: Scene, overrides: list[str] | None) -> Scene:
         dotted, value = parse_override(text)
         scene = scene.with_value(dotted, value)
     return scene
+
+
+def reference_markdown() -> str:
+    """The README's key reference, generated from the declarations above."""
+    rows = []
+    for s in SECTIONS:
+        rows += [f"\n### [{s}]\n", "| key | default | unit | allowed | meaning |",
+                 "|---|---|---|---|---|"]
+        for f in dataclasses.fields(SECTION_TYPES[s]):
+            rows.append(_reference_row(f))
+    rows += ["\n### [[objects]]\n",
+             "Each `[[objects]]` table adds one object (a custom scene with several objects).\n",
+             "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
+    rows += [_reference_row(f) for f in dataclasses.fields(SceneObject)]
+    return "\n".join(rows) + "\n"
+
+
+def _reference_row(f: dataclasses.Field) -> str:
+    default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
+    return (f"| `{f.name}` | `{_toml_value(default)}` | {f.metadata['unit']} | "
+            f"{_describe_allowed(f)} | {f.metadata['doc']} |")

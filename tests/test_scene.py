@@ -65,3 +65,10 @@ def test_with_value_leaves_original_untouched():
     with pytest.raises(SceneError):
         s.with_value("cloth.size", -3)
     assert s.cloth.size == 1.0
+
+
+def test_readme_documents_every_key():
+    from pathlib import Path
+    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    assert sc.reference_markdown() in readme, \
+        "README key reference is stale: regenerate it from cloth_tui.scene.reference_markdown()"
