@@ -1,0 +1,404 @@
+"""The terminal app: a live preview, the control panels, a status line and the keys.
+
+Threads: the simulation (`SimulationThread`) and the renderer (`RenderService`) run on their
+own threads. They hand results to the UI through one-slot mailboxes and `post_message`
+(thread-safe): a message is posted only when the previous one was consumed, so the UI never
+queues stale frames, and it never waits on either thread.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+from textual.app import App, ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal
+from textual.message import Message
+from textual.widgets import Footer, Input
+from textual.widgets._select import SelectOverlay
+
+from ..scene import Scene, SceneError, load
+from ..scene import save as save_scene
+from ..sim.runner import SimulationThread
+from .commands import SceneCommands
+from .panels import Controls, SettingField
+from .preview import Preview
+from .status import Readout, StatusBar
+
+BUMP_M = 0.05  # how far one arrow / PageUp / PageDown press pushes a particle, metres
+ORBIT_DEG = 10.0
+ZOOM_STEP = 1.25
+VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse drags)
+# Actions a focused text field or open dropdown keeps for itself (it needs those keys).
+TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "save_scene",
+                     "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera"}
+
+
+def default_renderer_factory(**kwargs):
+    from ..render.service import RenderService
+    return RenderService(**kwargs)
+
+
+class SimUpdated(Message):
+    """A new snapshot waits in the app's mailbox."""
+
+
+class FrameReady(Message):
+    """A new rendered frame waits in the app's mailbox."""
+
+
+class SimDied(Message):
+    def __init__(self, error: BaseException | None) -> None:
+        super().__init__()
+        self.error = error
+
+
+class Captured(Message):
+    def __init__(self, event: Any) -> None:
+        super().__init__()
+        self.event = event
+
+
+class ClothApp(App):
+    CSS_PATH = "app.tcss"
+    TITLE = "cloth-tui"
+    COMMANDS = App.COMMANDS | {SceneCommands}
+    BINDINGS = [
+        Binding("q", "quit", "Quit", priority=True),
+        Binding("space", "pause", "Pause", priority=True),
+        Binding("r", "restart", "Restart", priority=True),
+        Binding("w", "toggle('appearance.wireframe')", "Wire", priority=True),
+        Binding("a", "toggle('appearance.auto_rotate')", "Rotate", priority=True),
+        Binding("i", "screenshot", "Shot", priority=True),
+        Binding("v", "video", "Video", priority=True),
+        Binding("s", "save_scene", "Save", priority=True),
+        Binding("c", "toggle_controls", "Controls", priority=True),
+        Binding("up", "bump(0, 1, 0)", "Bump", priority=True, key_display="←↑↓→⇞⇟"),
+        Binding("down", "bump(0, -1, 0)", "Bump down", priority=True, show=False),
+        Binding("left", "bump(-1, 0, 0)", "Bump left", priority=True, show=False),
+        Binding("right", "bump(1, 0, 0)", "Bump right", priority=True, show=False),
+        Binding("pageup", "bump(0, 0, 1)", "Bump +z", priority=True, show=False),
+        Binding("pagedown", "bump(0, 0, -1)", "Bump -z", priority=True, show=False),
+        Binding("h,shift+left", "crosshair(-1, 0)", "Cursor", priority=True,
+                key_display="hjkl"),
+        Binding("l,shift+right", "crosshair(1, 0)", "Crosshair right", priority=True,
+                show=False),
+        Binding("k,shift+up", "crosshair(0, -1)", "Crosshair up", priority=True, show=False),
+        Binding("j,shift+down", "crosshair(0, 1)", "Crosshair down", priority=True,
+                show=False),
+        Binding("left_square_bracket", "orbit(-1, 0)", "Orbit", priority=True,
+                key_display="[ ] , ."),
+        Binding("right_square_bracket", "orbit(1, 0)", "Orbit right", priority=True,
+                show=False),
+        Binding("comma", "orbit(0, -1)", "Orbit down", priority=True, show=False),
+        Binding("full_stop", "orbit(0, 1)", "Orbit up", priority=True, show=False),
+        Binding("plus,equals_sign", "zoom(1)", "Zoom", priority=True, key_display="+ -"),
+        Binding("minus", "zoom(-1)", "Zoom out", priority=True, show=False),
+        Binding("0", "reset_camera", "Reset view", priority=True, show=False),
+        Binding("escape", "unfocus", "Leave field", show=False),
+    ]
+
+    def __init__(self, scene: Scene, captures_dir: Path, *,
+                 renderer_factory: Callable[..., Any] | None = None,
+                 start_paused: bool = False) -> None:
+        super().__init__()
+        self.scene = scene
+        self.captures_dir = Path(captures_dir)
+        self.renderer_factory = renderer_factory or default_renderer_factory
+        self.start_paused = start_paused
+        self.readout = Readout()
+        self.sim: SimulationThread | None = None
+        self.renderer: Any = None
+        self._snap_box: Any = None
+        self._snap_posted = False
+        self._frame_box: Any = None
+        self._frame_posted = False
+        self._grabbed: int | None = None
+        self._zoom = 1.0
+        self._stopped = False
+        self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
+
+    # -- layout ---------------------------------------------------------------------------
+    def compose(self) -> ComposeResult:
+        with Horizontal(id="main"):
+            yield Preview(id="preview")
+            yield Controls(self.scene, id="controls")
+        yield StatusBar(id="status")
+        yield Footer(compact=True)
+
+    @property
+    def preview(self) -> Preview:
+        return self.query_one(Preview)
+
+    @property
+    def controls(self) -> Controls:
+        return self.query_one(Controls)
+
+    def on_mount(self) -> None:
+        self.sim = SimulationThread(self.scene, on_snapshot=self._on_snapshot)
+        self.sim.paused = self.start_paused
+        try:
+            self.renderer = self.renderer_factory(
+                scene=self.scene, size=(160, 90), captures_dir=self.captures_dir,
+                on_frame=self._on_frame, on_event=self._on_event, preview_file=True)
+            self.renderer.start()
+        except Exception as e:  # no GL, no renderer: the app still simulates
+            self.renderer = None
+            self.notify(f"renderer unavailable: {type(e).__name__}: {e}", severity="error",
+                        timeout=10)
+        self.sim.start()
+        if self.renderer is not None:
+            self.renderer.submit(self.sim.latest)
+        self.set_interval(0.2, self._refresh_status)
+
+    # -- from other threads (never touch widgets here) ------------------------------------
+    def _on_snapshot(self, snap) -> None:
+        if snap is None:
+            self.post_message(SimDied(self.sim.error if self.sim else None))
+            return
+        if self.renderer is not None:
+            self.renderer.submit(snap)
+        self._snap_box = snap
+        if not self._snap_posted:
+            self._snap_posted = True
+            self.post_message(SimUpdated())
+
+    def _on_frame(self, frame) -> None:
+        self._frame_box = frame
+        if not self._frame_posted:
+            self._frame_posted = True
+            self.post_message(FrameReady())
+
+    def _on_event(self, event) -> None:
+        self.post_message(Captured(event))
+
+    # -- messages -------------------------------------------------------------------------
+    def on_sim_updated(self, _: SimUpdated) -> None:
+        self._snap_posted = False
+        snap = self._snap_box
+        if snap is not None and self.sim is not None:
+            self.readout.on_snapshot(snap.frame, snap.stats, self.sim.sim.last_step_s)
+
+    def on_frame_ready(self, _: FrameReady) -> None:
+        self._frame_posted = False
+        frame = self._frame_box
+        if frame is None:
+            return
+        self.preview.show_image(frame.image)
+        self.readout.on_frame(frame.render_ms)
+        if self.key_log and self.key_log[-1][0] != "shown":
+            self.key_log.append(("shown", time.perf_counter()))
+
+    def on_sim_died(self, message: SimDied) -> None:
+        err = message.error
+        text = f"{type(err).__name__}: {err}" if err else "unknown error"
+        self.notify(f"The simulation stopped: {text}. Press r to restart.",
+                    severity="error", timeout=30)
+
+    def on_captured(self, message: Captured) -> None:
+        ev = message.event
+        if ev.kind == "error":
+            self.notify(ev.message or "capture failed", title="Capture failed",
+                        severity="error", timeout=10)
+        elif ev.kind == "screenshot":
+            self.notify(f"Screenshot saved: {ev.path}")
+        elif ev.kind == "video_started":
+            self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
+        elif ev.kind == "video_saved":
+            self.notify(f"Video saved: {ev.path}")
+        self._refresh_status()
+
+    def on_preview_resized(self, message: Preview.Resized) -> None:
+        if self.renderer is not None:
+            self.renderer.resize(message.width, message.height)
+
+    def on_preview_grab(self, message: Preview.Grab) -> None:
+        self._grabbed = self.renderer.pick(message.u, message.v) if self.renderer else None
+
+    def on_preview_drag(self, message: Preview.Drag) -> None:
+        if self._grabbed is None:
+            return
+        span = VIEW_SPAN * self.scene.cloth.size / self._zoom
+        aspect = message.width_px / max(message.height_px, 1)
+        self._bump(self._grabbed, (message.du * span * aspect, -message.dv * span, 0.0))
+
+    def on_preview_release(self, _: Preview.Release) -> None:
+        self._grabbed = None
+
+    def on_setting_field_edited(self, message: SettingField.Edited) -> None:
+        if not self.set_value(message.dotted, message.value):
+            message.field.show(self.scene.get(message.dotted))
+
+    def on_controls_command(self, message: Controls.Command) -> None:
+        if message.command == "restart":
+            self.action_restart()
+        elif message.command == "defaults":
+            self.apply_scene(Scene(name=self.scene.name), restart=True)
+            self.notify("Settings restored to their defaults")
+
+    # -- scene changes --------------------------------------------------------------------
+    def set_value(self, dotted: str, value: Any) -> bool:
+        """Apply one setting live; a refused value is reported and changes nothing."""
+        try:
+            new = self.scene.with_value(dotted, value)
+        except SceneError as e:
+            self.notify(str(e), title="Value refused", severity="error", timeout=8)
+            return False
+        self.apply_scene(new)
+        return True
+
+    def apply_scene(self, new: Scene, *, restart: bool = False) -> None:
+        self.scene = new
+        if self.sim is not None:
+            self.sim.submit(lambda sim, new=new: sim.set_scene(new))
+            if restart:
+                self.sim.submit(lambda sim: sim.reset())
+                self.readout.restart()
+        if self.renderer is not None:
+            self.renderer.update_scene(new)
+        self.controls.show_scene(new)
+
+    def open_scene(self, name: str) -> None:
+        try:
+            new = load(name)
+        except SceneError as e:
+            self.notify(str(e), severity="error")
+            return
+        self.apply_scene(new, restart=True)
+        self.notify(f"Opened scene {name}")
+
+    # -- actions --------------------------------------------------------------------------
+    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if action in TEXT_KEYS_ACTIONS and isinstance(self.focused, (Input, SelectOverlay)):
+            return False  # let the field have the key
+        return True
+
+    def _log_key(self, what: str) -> None:
+        self.key_log.append((what, time.perf_counter()))
+        del self.key_log[:-200]
+
+    def action_pause(self) -> None:
+        if self.sim is not None:
+            self.sim.paused = not self.sim.paused
+            self.sim.submit(lambda sim: None)  # publish at once, wake the thread
+        self._refresh_status()
+
+    def action_restart(self) -> None:
+        if self.sim is not None:
+            self.sim.submit(lambda sim: sim.reset())
+        self.readout.restart()
+        self._log_key("restart")
+
+    def action_toggle(self, dotted: str) -> None:
+        self.set_value(dotted, not self.scene.get(dotted))
+        self._log_key(dotted)
+
+    def _bump(self, particle: int, d: tuple[float, float, float]) -> None:
+        if self.sim is not None:
+            self.sim.submit(lambda sim: sim.bump(particle, d))
+
+    def action_bump(self, dx: float, dy: float, dz: float) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot tell which particle is under the pointer",
+                        severity="warning")
+            return
+        u, v = self.preview.target
+        particle = self.renderer.pick(u, v)
+        if particle is None:
+            return
+        self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
+        self._log_key("bump")
+
+    def action_crosshair(self, dcol: int, drow: int) -> None:
+        self.preview.move_crosshair(dcol, drow)
+
+    def action_orbit(self, d_az: float, d_el: float) -> None:
+        if self.renderer is not None:
+            self.renderer.orbit(d_az * ORBIT_DEG, d_el * ORBIT_DEG)
+            self._log_key("orbit")
+
+    def action_zoom(self, direction: int) -> None:
+        factor = ZOOM_STEP if direction > 0 else 1 / ZOOM_STEP
+        self._zoom *= factor
+        if self.renderer is not None:
+            self.renderer.zoom(factor)
+            self._log_key("zoom")
+
+    def action_reset_camera(self) -> None:
+        self._zoom = 1.0
+        if self.renderer is not None:
+            self.renderer.reset_camera()
+
+    def action_screenshot(self) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot take a screenshot", severity="error")
+        else:
+            self.renderer.screenshot()
+
+    def action_video(self) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot record", severity="error")
+        else:
+            self.renderer.toggle_recording()
+
+    def action_save_scene(self) -> None:
+        path = self.captures_dir / f"scene-{time.strftime('%Y%m%d-%H%M%S')}.toml"
+        try:
+            save_scene(self.scene, path)
+        except SceneError as e:
+            self.notify(str(e), title="Save failed", severity="error")
+            return
+        self.notify(f"Scene saved: {path}")
+
+    def action_toggle_controls(self) -> None:
+        controls = self.controls
+        controls.display = not controls.display
+
+    def action_unfocus(self) -> None:
+        self.set_focus(None)
+
+    async def action_quit(self) -> None:
+        self.shutdown()
+        self.exit(0)
+
+    # -- status and shutdown --------------------------------------------------------------
+    def _refresh_status(self) -> None:
+        b = self.scene.behavior
+        recording = bool(self.renderer is not None and self.renderer.recording)
+        paused = bool(self.sim is not None and self.sim.paused)
+        text = self.readout.text(paused=paused, recording=recording,
+                                 iterations=b.iterations, substeps=b.substeps)
+        self.query_one(StatusBar).show(text, self.readout.ms_history)
+
+    def shutdown(self) -> None:
+        """Stop both threads (the renderer finishes a running video); at most ~1.5 s."""
+        if self._stopped:
+            return
+        self._stopped = True
+        if self.sim is not None:
+            self.sim.stop(timeout=0.5)
+        if self.renderer is not None:
+            self.renderer.stop(timeout=1.0)
+
+    def on_unmount(self) -> None:
+        self.shutdown()
+
+
+def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
+    """Create the captures folder (exit 2 if impossible), run the app, return its exit code."""
+    captures_dir = Path(captures_dir)
+    try:
+        captures_dir.mkdir(parents=True, exist_ok=True)
+        if not os.access(captures_dir, os.W_OK):
+            raise PermissionError(13, "not writable")
+    except OSError as e:
+        print(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
+              f"{e.strerror or e}", file=sys.stderr)
+        return 2
+    app = ClothApp(scene, captures_dir, **kwargs)
+    app.run()
+    return app.return_code or 0

@@ -1,0 +1,36 @@
+"""Command palette entries: open a built-in scene, and the app's main actions."""
+
+from __future__ import annotations
+
+from functools import partial
+
+from textual.command import DiscoveryHit, Hit, Hits, Provider
+
+from ..scene import builtin_scenes
+
+
+def _first_comment(path) -> str:
+    try:
+        line = path.read_text(encoding="utf-8").splitlines()[0]
+    except (OSError, IndexError, UnicodeDecodeError):
+        return ""
+    return line.lstrip("# ").strip() if line.startswith("#") else ""
+
+
+class SceneCommands(Provider):
+    """`Open scene: NAME` for every built-in scene."""
+
+    def _entries(self):
+        for name, path in builtin_scenes().items():
+            yield f"Open scene: {name}", partial(self.app.open_scene, name), _first_comment(path)
+
+    async def discover(self) -> Hits:
+        for text, callback, help in self._entries():
+            yield DiscoveryHit(text, callback, help=help)
+
+    async def search(self, query: str) -> Hits:
+        matcher = self.matcher(query)
+        for text, callback, help in self._entries():
+            score = matcher.match(text)
+            if score > 0:
+                yield Hit(score, matcher.highlight(text), callback, help=help)

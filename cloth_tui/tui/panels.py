@@ -1,0 +1,207 @@
+"""The control panels, built from the scene schema's field metadata: one row per scene key,
+a Switch for booleans, a Select for choices, an Input for numbers, vectors, colours and
+textures (validated when submitted or left). Rows never change the scene themselves: they
+post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value)."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from typing import Any
+
+from textual.app import ComposeResult
+from textual.containers import Horizontal, VerticalScroll
+from textual.message import Message
+from textual.widget import Widget
+from textual.widgets import Button, Collapsible, Input, Label, Select, Switch
+
+from ..scene import SECTION_TYPES, SECTIONS, Scene, key_spec
+
+TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
+GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
+SECTION_GROUP = {"cloth": "Scene", "forces": "Forces", "scene": "Scene",
+                 "behavior": "Behavior", "appearance": "Appearance"}
+# Where the original placed a control in another folder than its scene section.
+MOVED = {"appearance.show_constraints": "Behavior"}
+
+
+def group_of(dotted: str) -> str:
+    if dotted in TOP_KEYS:
+        return "top"
+    return MOVED.get(dotted) or SECTION_GROUP[dotted.split(".")[0]]
+
+
+def keys_in(group: str) -> list[str]:
+    """Scene keys shown in a group, in schema order (scene section first for Scene)."""
+    order = ("forces", "scene", "cloth", "behavior", "appearance")
+    if group == "top":
+        return list(TOP_KEYS)
+    return [f"{s}.{f.name}" for s in order for f in dataclasses.fields(SECTION_TYPES[s])
+            if group_of(f"{s}.{f.name}") == group]
+
+
+def widget_id(dotted: str) -> str:
+    return "f-" + dotted.replace(".", "-")
+
+
+def format_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, list):
+        return ", ".join(format_value(float(v)) for v in value)
+    return str(value)
+
+
+def parse_text(dotted: str, text: str) -> Any:
+    """Text of an Input → the Python value to validate. What cannot be parsed is returned as
+    the raw string, so the scene's validation produces the one-line message."""
+    f = key_spec(dotted)
+    kind = f.metadata["kind"]
+    t = f.type if isinstance(f.type, str) else f.type.__name__
+    text = text.strip()
+    if kind.startswith("vec3"):
+        parts = [p for p in re.split(r"[,\s]+", text.strip("[]() ")) if p]
+        try:
+            return [float(p) for p in parts]
+        except ValueError:
+            return text
+    if t in ("int", "float"):
+        try:
+            v = float(text)
+        except ValueError:
+            return text
+        return int(v) if t == "int" and v.is_integer() else v
+    return text
+
+
+def label_text(dotted: str) -> str:
+    f = key_spec(dotted)
+    name = dotted.split(".")[1].replace("_", " ")
+    unit = f.metadata["unit"]
+    return f"{name} [dim]({unit})[/]" if unit else name
+
+
+class SettingField(Horizontal):
+    """One scene key: a label (with unit) and the control for its type."""
+
+    class Edited(Message):
+        """The user asks for `dotted` = `value` (not yet validated)."""
+
+        def __init__(self, field: "SettingField", dotted: str, value: Any) -> None:
+            super().__init__()
+            self.field, self.dotted, self.value = field, dotted, value
+
+    def __init__(self, dotted: str, value: Any) -> None:
+        super().__init__(id=widget_id(dotted) + "-row", classes="setting")
+        self.dotted = dotted
+        self.spec = key_spec(dotted)
+        self._value = value
+        self.tooltip = f"{dotted}: {self.spec.metadata['doc']}"
+
+    @property
+    def control(self) -> Widget:
+        return self.query_one("#" + widget_id(self.dotted))
+
+    def compose(self) -> ComposeResult:
+        m, wid, v = self.spec.metadata, widget_id(self.dotted), self._value
+        yield Label(label_text(self.dotted), classes="setting-label")
+        t = self.spec.type if isinstance(self.spec.type, str) else self.spec.type.__name__
+        if t == "bool":
+            yield Switch(value=v, id=wid)
+        elif m["choices"]:
+            yield Select([(c, c) for c in m["choices"]], value=v, allow_blank=False,
+                         compact=True, id=wid)
+        else:
+            yield Input(format_value(v), id=wid, compact=True, select_on_focus=False)
+
+    def show(self, value: Any) -> None:
+        """Display `value` (the last good one) without asking for a change."""
+        self._value = value
+        if not self.is_mounted:
+            return
+        c = self.control
+        if isinstance(c, Switch):
+            if c.value != value:
+                with c.prevent(Switch.Changed):
+                    c.value = value
+        elif isinstance(c, Select):
+            if c.value != value:
+                with c.prevent(Select.Changed):
+                    c.value = value
+        elif isinstance(c, Input):
+            text = format_value(value)
+            if c.value != text:
+                with c.prevent(Input.Changed):
+                    c.value = text
+
+    def _edited(self, value: Any) -> None:
+        if value != self._value:
+            self.post_message(self.Edited(self, self.dotted, value))
+
+    def on_switch_changed(self, event: Switch.Changed) -> None:
+        event.stop()
+        self._edited(event.value)
+
+    def on_select_changed(self, event: Select.Changed) -> None:
+        event.stop()
+        if event.value is not Select.BLANK:
+            self._edited(event.value)
+
+    def on_input_submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        self._commit(event.value)
+
+    def on_input_blurred(self, event: Input.Blurred) -> None:
+        event.stop()
+        self._commit(event.value)
+
+    def _commit(self, text: str) -> None:
+        if text.strip() != format_value(self._value):
+            self.post_message(self.Edited(self, self.dotted, parse_text(self.dotted, text)))
+
+
+class Controls(VerticalScroll):
+    """Top-level settings and buttons, then the four collapsible groups."""
+
+    class Command(Message):
+        """A button: 'restart' or 'defaults'."""
+
+        def __init__(self, command: str) -> None:
+            super().__init__()
+            self.command = command
+
+    def __init__(self, scene: Scene, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self._scene = scene
+
+    def compose(self) -> ComposeResult:
+        for dotted in keys_in("top"):
+            yield SettingField(dotted, self._scene.get(dotted))
+        with Horizontal(id="buttons"):
+            yield Button("Restart", id="restart", compact=True, variant="primary")
+            yield Button("Restore defaults", id="defaults", compact=True, variant="warning")
+        for group in GROUPS:
+            with Collapsible(title=group, collapsed=group != "Forces",
+                             id="group-" + group.lower()):
+                for dotted in keys_in(group):
+                    yield SettingField(dotted, self._scene.get(dotted))
+
+    def on_button_pressed(self, event: Button.Pressed) -> None:
+        event.stop()
+        self.post_message(self.Command(event.button.id or ""))
+
+    def show_scene(self, scene: Scene) -> None:
+        """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
+        self._scene = scene
+        for field in self.query(SettingField):
+            field.show(scene.get(field.dotted))
+
+
+def all_panel_keys() -> list[str]:
+    keys = keys_in("top")
+    for g in GROUPS:
+        keys += keys_in(g)
+    return keys
+

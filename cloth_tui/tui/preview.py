@@ -1,0 +1,202 @@
+"""The live preview: the renderer's image drawn with half-block cells ("▀", top pixel in the
+foreground colour, bottom pixel in the background colour), through Textual's Line API.
+
+The conversion is NumPy all the way to the row level: the image is resampled to
+(2·rows, cols) by index arrays, colours are packed into integers, and each row becomes one
+Segment per run of equal cells, with Rich styles cached by packed colour pair.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from rich.color import Color
+from rich.segment import Segment
+from rich.style import Style
+from textual import events
+from textual.geometry import Size
+from textual.message import Message
+from textual.strip import Strip
+from textual.widget import Widget
+
+HALF = "▀"
+CROSSHAIR = "╋"
+_QUANT = 0xFC  # drop the two low bits of each channel: more shared styles, longer runs
+
+
+class StyleCache:
+    """Rich styles for packed (top, bottom) colour pairs; cleared when it grows too big."""
+
+    def __init__(self, limit: int = 50_000):
+        self._styles: dict[int, Style] = {}
+        self._limit = limit
+
+    def __call__(self, key: int) -> Style:
+        style = self._styles.get(key)
+        if style is None:
+            if len(self._styles) >= self._limit:
+                self._styles.clear()
+            top, bot = key >> 24, key & 0xFFFFFF
+            style = Style(color=Color.from_rgb(top >> 16, (top >> 8) & 255, top & 255),
+                          bgcolor=Color.from_rgb(bot >> 16, (bot >> 8) & 255, bot & 255))
+            self._styles[key] = style
+        return style
+
+
+def resample(image: np.ndarray, cols: int, rows: int) -> np.ndarray:
+    """Nearest-neighbour resample of an (H, W, 3) image to (2·rows, cols, 3)."""
+    h, w = image.shape[:2]
+    ys = ((np.arange(2 * rows) + 0.5) * (h / (2 * rows))).astype(np.intp)
+    xs = ((np.arange(cols) + 0.5) * (w / cols)).astype(np.intp)
+    return image[ys[:, None], xs[None, :], :3]
+
+
+def image_to_strips(image: np.ndarray, cols: int, rows: int, styles: StyleCache,
+                    crosshair: tuple[int, int] | None = None) -> list[Strip]:
+    """One Strip per terminal row of `cols` half-block cells showing `image`."""
+    if cols <= 0 or rows <= 0:
+        return []
+    px = resample(image, cols, rows).astype(np.uint32) & _QUANT
+    packed = (px[..., 0] << 16) | (px[..., 1] << 8) | px[..., 2]
+    keys = (packed[0::2].astype(np.int64) << 24) | packed[1::2].astype(np.int64)
+    change = keys[:, 1:] != keys[:, :-1]
+    strips = []
+    for r in range(rows):
+        row = keys[r]
+        starts = np.concatenate(([0], np.flatnonzero(change[r]) + 1)).tolist()
+        ends = starts[1:] + [cols]
+        vals = row[starts].tolist()
+        segs = [Segment(HALF * (e - s), styles(k)) for s, e, k in zip(starts, ends, vals)]
+        strips.append(Strip(segs, cols))
+    if crosshair is not None:
+        cx, cy = crosshair
+        if 0 <= cx < cols and 0 <= cy < rows:
+            mark = Strip([Segment(CROSSHAIR, Style(color="#ffff00", bgcolor="#000000",
+                                                   bold=True))], 1)
+            s = strips[cy]
+            strips[cy] = Strip.join([s.crop(0, cx), mark, s.crop(cx + 1, cols)])
+    return strips
+
+
+class Preview(Widget):
+    """Shows the newest frame; reports its pixel size, the mouse position and drags."""
+
+    DEFAULT_CSS = """
+    Preview { width: 1fr; height: 1fr; }
+    """
+
+    class Resized(Message):
+        """The preview wants images of this many pixels (cols × 2·rows)."""
+
+        def __init__(self, width: int, height: int) -> None:
+            super().__init__()
+            self.width, self.height = width, height
+
+    class Grab(Message):
+        """Mouse pressed at image point (u, v), both in [0, 1] from the top-left."""
+
+        def __init__(self, u: float, v: float) -> None:
+            super().__init__()
+            self.u, self.v = u, v
+
+    class Drag(Message):
+        """The grabbed point moved by (du, dv) image fractions; (dx_px, dy_px) in pixels."""
+
+        def __init__(self, du: float, dv: float, width_px: int, height_px: int) -> None:
+            super().__init__()
+            self.du, self.dv = du, dv
+            self.width_px, self.height_px = width_px, height_px
+
+    class Release(Message):
+        """Mouse released after a grab."""
+
+    def __init__(self, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self._styles = StyleCache()
+        self._strips: list[Strip] = []
+        self._image: np.ndarray | None = None
+        self.pointer: tuple[float, float] | None = None  # mouse over the preview, (u, v)
+        self.crosshair: tuple[float, float] = (0.5, 0.5)
+        self.frames_shown = 0
+        self._drag_from: tuple[float, float] | None = None
+
+    # -- data in -------------------------------------------------------------------------
+    def show_image(self, image: np.ndarray) -> None:
+        self._image = image
+        self._rebuild()
+        self.frames_shown += 1
+
+    def move_crosshair(self, dcol: int, drow: int) -> None:
+        cols, rows = max(self.size.width, 1), max(self.size.height, 1)
+        cx, cy = self._cell(self.crosshair)
+        cx = min(max(cx + dcol, 0), cols - 1)
+        cy = min(max(cy + drow, 0), rows - 1)
+        self.crosshair = ((cx + 0.5) / cols, (cy + 0.5) / rows)
+        self._rebuild()
+
+    @property
+    def target(self) -> tuple[float, float]:
+        """Where a bump applies: under the mouse if it is over the preview, else the crosshair."""
+        return self.pointer if self.pointer is not None else self.crosshair
+
+    def _cell(self, uv: tuple[float, float]) -> tuple[int, int]:
+        return int(uv[0] * self.size.width), int(uv[1] * self.size.height)
+
+    def _rebuild(self) -> None:
+        if self._image is None:
+            return
+        cols, rows = self.size.width, self.size.height
+        self._strips = image_to_strips(self._image, cols, rows, self._styles,
+                                       self._cell(self.crosshair))
+        self.refresh()
+
+    # -- Line API -------------------------------------------------------------------------
+    def render_line(self, y: int) -> Strip:
+        if y < len(self._strips):
+            return self._strips[y]
+        width = self.size.width
+        if self._image is None and y == self.size.height // 2:
+            text = "waiting for the renderer…"[:width]
+            pad = max((width - len(text)) // 2, 0)
+            return Strip([Segment(" " * pad + text)]).extend_cell_length(width)
+        return Strip.blank(width)
+
+    def get_content_width(self, container: Size, viewport: Size) -> int:
+        return container.width
+
+    def get_content_height(self, container: Size, viewport: Size, width: int) -> int:
+        return container.height
+
+    # -- events ---------------------------------------------------------------------------
+    def on_resize(self, event: events.Resize) -> None:
+        w, h = event.size.width, event.size.height
+        if w > 0 and h > 0:
+            self.post_message(self.Resized(w, 2 * h))
+            self._rebuild()
+
+    def _uv(self, event: events.MouseEvent) -> tuple[float, float]:
+        w, h = max(self.size.width, 1), max(self.size.height, 1)
+        return ((event.x + 0.5) / w, (event.y + 0.5) / h)
+
+    def on_mouse_move(self, event: events.MouseMove) -> None:
+        self.pointer = self._uv(event)
+        if self._drag_from is not None:
+            u, v = self.pointer
+            du, dv = u - self._drag_from[0], v - self._drag_from[1]
+            if du or dv:
+                self._drag_from = (u, v)
+                self.post_message(self.Drag(du, dv, self.size.width, 2 * self.size.height))
+
+    def on_leave(self, event: events.Leave) -> None:
+        if self._drag_from is None:
+            self.pointer = None
+
+    def on_mouse_down(self, event: events.MouseDown) -> None:
+        self.pointer = self._drag_from = self._uv(event)
+        self.capture_mouse()
+        self.post_message(self.Grab(*self.pointer))
+
+    def on_mouse_up(self, event: events.MouseUp) -> None:
+        if self._drag_from is not None:
+            self._drag_from = None
+            self.release_mouse()
+            self.post_message(self.Release())

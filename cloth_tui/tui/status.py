@@ -1,0 +1,111 @@
+"""The status line: rates, step cost, stretch and energy, a sparkline of ms per step and the
+recording mark. `Readout` is plain Python (no Textual) so the numbers are testable alone."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import deque
+
+from textual.app import ComposeResult
+from textual.containers import Horizontal
+from textual.widgets import Sparkline, Static
+
+
+class RateMeter:
+    """Events per second over a sliding window, from (time, running count) samples."""
+
+    def __init__(self, window: float = 1.0):
+        self.window = window
+        self._samples: deque[tuple[float, float]] = deque()
+
+    def add(self, count: float, now: float | None = None) -> None:
+        now = time.perf_counter() if now is None else now
+        if self._samples and count < self._samples[-1][1]:
+            self._samples.clear()  # the counter restarted
+        self._samples.append((now, count))
+        while len(self._samples) > 2 and now - self._samples[1][0] > self.window:
+            self._samples.popleft()
+
+    def rate(self, now: float | None = None) -> float:
+        if len(self._samples) < 2:
+            return 0.0
+        now = time.perf_counter() if now is None else now
+        (t0, c0), (t1, c1) = self._samples[0], self._samples[-1]
+        if now - t1 > self.window:  # nothing new for a while: stopped
+            return 0.0
+        return (c1 - c0) / (t1 - t0) if t1 > t0 else 0.0
+
+
+class Readout:
+    """What the status line shows, updated from snapshots and frames."""
+
+    def __init__(self, history: int = 60):
+        self.sim_rate = RateMeter()
+        self.view_rate = RateMeter()
+        self.shown = 0
+        self.stats: dict = {}
+        self.step_ms = 0.0
+        self.render_ms = 0.0
+        self.energy0: float | None = None
+        self.ms_history: deque[float] = deque([0.0] * history, maxlen=history)
+        self.last_frame = -1
+
+    def restart(self) -> None:
+        self.energy0 = None
+
+    def on_snapshot(self, frame: int, stats: dict, step_s: float) -> None:
+        if frame < self.last_frame or self.energy0 is None:
+            self.energy0 = stats.get("energy")
+        if frame != self.last_frame:
+            self.step_ms = step_s * 1000.0
+            self.ms_history.append(self.step_ms)
+        self.last_frame = frame
+        self.stats = stats
+        self.sim_rate.add(frame)
+
+    def on_frame(self, render_ms: float) -> None:
+        self.shown += 1
+        self.render_ms = render_ms
+        self.view_rate.add(self.shown)
+
+    @property
+    def drift(self) -> float:
+        e = self.stats.get("energy")
+        if e is None or self.energy0 is None:
+            return 0.0
+        return e - self.energy0
+
+    def text(self, *, paused: bool, recording: bool, iterations: int, substeps: int) -> str:
+        s = self.stats
+        pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
+        parts = [
+            "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶[/]",
+            f"sim {self.sim_rate.rate():4.0f} fps",
+            f"view {self.view_rate.rate():4.0f} fps",
+            f"[b]{self.step_ms:6.2f}[/] ms/step ({iterations}×{substeps} it×sub)",
+            f"{s.get('particles', 0)} particles",
+            f"stretch max {pct(s.get('max_stretch'))} mean {pct(s.get('mean_stretch'))}",
+            f"E {s.get('energy', 0.0):+.3f} J  ΔE {self.drift:+.3f} J",
+        ]
+        if s.get("recoveries"):
+            parts.append(f"[red]{s['recoveries']} recoveries[/]")
+        if recording:
+            parts.append("[b red]● REC[/]")
+        return " · ".join(parts)
+
+
+class StatusBar(Horizontal):
+    DEFAULT_CSS = """
+    StatusBar { height: 1; }
+    StatusBar #status-text { width: 1fr; height: 1; }
+    StatusBar Sparkline { width: 24; height: 1; }
+    """
+
+    def compose(self) -> ComposeResult:
+        yield Static("starting…", id="status-text")
+        yield Sparkline([0.0], id="ms-spark", summary_function=max)
+
+    def show(self, text: str, history) -> None:
+        self.query_one("#status-text", Static).update(text)
+        self.query_one(Sparkline).data = list(history)
