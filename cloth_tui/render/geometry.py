@@ -1,0 +1,98 @@
+"""NumPy-only geometry for the renderer: vertex normals, grid texture coordinates, colours,
+the fogged ground's vertex colours, and picking by projection. No VTK here, so `pick` can run
+on any thread and these pieces are testable without GL."""
+
+from __future__ import annotations
+
+import numpy as np
+
+LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0])  # original's
+LIGHT_COLOR = np.array([0xdf, 0xeb, 0xff]) / 255.0
+AMBIENT = 0.4  # the original's 0x666666 ambient light
+
+
+def hex_rgb(text: str) -> np.ndarray:
+    """'#rrggbb' → floats in [0, 1]."""
+    text = text.lstrip("#")
+    return np.array([int(text[i:i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
+
+
+def vertex_normals(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Area-weighted vertex normals (smooth shading), unit length; zero-area stays (0, 1, 0)."""
+    a, b, c = points[triangles[:, 0]], points[triangles[:, 1]], points[triangles[:, 2]]
+    face = np.cross(b - a, c - a)
+    n = len(points)
+    out = np.empty((n, 3))
+    flat = triangles.ravel()
+    for k in range(3):  # bincount is several times faster than np.add.at
+        out[:, k] = np.bincount(flat, weights=np.repeat(face[:, k], 3), minlength=n)
+    length = np.linalg.norm(out, axis=1)
+    bad = length < 1e-20
+    out[bad] = (0.0, 1.0, 0.0)
+    length[bad] = 1.0
+    return out / length[:, None]
+
+
+def grid_uv(n: int) -> np.ndarray:
+    """Texture coordinates of the n×n particle grid: the whole image once across the sheet."""
+    u = np.linspace(0.0, 1.0, n)
+    vv, uu = np.meshgrid(u, u, indexing="ij")
+    return np.stack([uu.ravel(), 1.0 - vv.ravel()], axis=1)
+
+
+def fog_factor(r: np.ndarray, near: float, far: float) -> np.ndarray:
+    return np.clip((r - near) / (far - near), 0.0, 1.0) ** 0.8
+
+
+def ground_colors(points: np.ndarray, ground: np.ndarray, emissive: np.ndarray,
+                  fog: np.ndarray, near: float, far: float, textured: bool) -> np.ndarray:
+    """Lit, fogged colour of each ground vertex, RGB uint8. The ground is flat and the light
+    directional, so its lighting is one constant we can apply here; fog then blends toward
+    the background by distance from the centre, hiding the ground's edge in the horizon."""
+    diffuse = max(0.0, LIGHT_DIR[1])
+    base = np.ones(3) if textured else ground  # a texture carries its own colour
+    lit = np.clip(base * (AMBIENT + 0.75 * diffuse * LIGHT_COLOR) + emissive, 0.0, 1.0)
+    r = np.hypot(points[:, 0], points[:, 2])
+    f = fog_factor(r, near, far)[:, None]
+    rgb = lit[None, :] * (1.0 - f) + fog[None, :] * f
+    return (rgb * 255.0 + 0.5).astype(np.uint8)
+
+
+def family_colors(family: np.ndarray) -> np.ndarray:
+    """Constraint colours: structural red, shear green, bending blue (RGB uint8)."""
+    palette = np.array([[230, 40, 40], [40, 200, 60], [50, 90, 240]], dtype=np.uint8)
+    return palette[np.clip(family.astype(np.int64), 0, 2)]
+
+
+def pick_nearest(matrix: np.ndarray, positions: np.ndarray, u: float, v: float,
+                 radius: float = 0.06) -> int | None:
+    """Index of the particle whose projection is nearest the image point (u, v) (0..1 from
+    the top-left), or None if none lies within `radius` (a fraction of the image height).
+    `matrix` is the world → clip transform of the last render; among particles about equally
+    near the pointer, the one nearer the camera wins (the front layer of a fold)."""
+    if matrix is None or positions is None or not len(positions):
+        return None
+    h = np.c_[positions, np.ones(len(positions))] @ matrix.T
+    w = h[:, 3]
+    front = w > 1e-9
+    if not front.any():
+        return None
+    ndc = h[:, :3] / np.where(front, w, 1.0)[:, None]
+    aspect = matrix_aspect(matrix)
+    dx = (ndc[:, 0] - (2.0 * u - 1.0)) * aspect  # measure in units of the image height
+    dy = ndc[:, 1] - (1.0 - 2.0 * v)
+    d = np.hypot(dx, dy) * 0.5
+    d[~front] = np.inf
+    best = float(d.min())
+    if not np.isfinite(best) or best > radius:
+        return None
+    near = np.flatnonzero(d <= best + 0.01)
+    return int(near[np.argmin(ndc[near, 2])])
+
+
+def matrix_aspect(matrix: np.ndarray) -> float:
+    """Width/height of the image a perspective world → clip matrix was made for (rows 0 and 1
+    of the projection scale x and y by f/aspect and f)."""
+    sx = np.linalg.norm(matrix[0, :3])
+    sy = np.linalg.norm(matrix[1, :3])
+    return float(sy / sx) if sx > 0 else 1.0

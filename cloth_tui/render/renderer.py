@@ -1,0 +1,238 @@
+"""One off-screen PyVista plotter, kept for the renderer's whole life, drawing snapshots of
+the cloth in the original's look: red sheet above a bluish ground fading into light-blue fog,
+four corner poles, translucent objects.
+
+Not thread-safe and bound to its creating thread (VTK's GL context is): in the app only the
+render service's thread uses it. `pick` is the exception: it reads the camera matrix and
+positions saved after the last render, in NumPy, so any thread may call it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .geometry import (AMBIENT, LIGHT_COLOR, LIGHT_DIR, family_colors, grid_uv, hex_rgb,
+                       pick_nearest, vertex_normals)
+from .props import Ground, Objects, Poles
+from .textures import load_texture_image
+from .vtk_setup import pyvista_quiet
+
+VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
+HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), seen from the side
+HOME_ELEVATION = 17.0      # degrees: raised a little so the sheet's top is visible
+HOME_DISTANCE = 3.0        # m, for a 1 m sheet
+AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
+MAX_SIZE = 8192
+
+
+def check_size(w, h) -> tuple[int, int]:
+    w, h = int(w), int(h)
+    if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
+        raise ValueError(f"image size {w}x{h} is outside 1..{MAX_SIZE} pixels per side")
+    return w, h
+
+
+class Renderer:
+    def __init__(self, scene, size=(640, 480)):
+        pv = pyvista_quiet()
+        self.pv = pv
+        self.size = check_size(*size)
+        self.plotter = pv.Plotter(off_screen=True, window_size=self.size, lighting="none")
+        # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen).
+        self.plotter.ren_win.SetMultiSamples(0)
+        light = pv.Light(position=tuple(LIGHT_DIR * 10.0), focal_point=(0, 0, 0),
+                         color=tuple(LIGHT_COLOR), intensity=0.9, light_type="scene light")
+        light.positional = False
+        self.plotter.add_light(light)
+        # A weak light from the camera so vertical faces (poles, hanging cloth) are not black.
+        self.plotter.add_light(pv.Light(light_type="headlight", intensity=0.3))
+        self.ground = Ground(pv, self.plotter)
+        self.poles = Poles(pv, self.plotter)
+        self.objects = Objects(pv, self.plotter)
+        self.cloth = self.cloth_actor = None
+        self.lines = self.lines_actor = None
+        self._model = None
+        self._positions: np.ndarray | None = None  # last finite positions drawn
+        self._pick_state: tuple | None = None      # (world→clip matrix, positions)
+        self._scene = None
+        self._appearance_key = None
+        self._textures: dict[str, object] = {}
+        self.azimuth, self.elevation, self.distance = HOME_AZIMUTH, HOME_ELEVATION, HOME_DISTANCE
+        self.target = np.zeros(3)
+        self.update_scene(scene)
+        self.reset_camera()
+
+    # -- settings -------------------------------------------------------------------------
+    def update_scene(self, scene) -> None:
+        """Apply appearance, floor and pole settings; cheap when nothing changed."""
+        self._scene = scene
+        a, s, c = scene.appearance, scene.scene, scene.cloth
+        key = (tuple(vars(a).items()), s.floor, s.floor_height, c.size, c.height)
+        if key == self._appearance_key:
+            return
+        self._appearance_key = key
+        self.plotter.set_background(a.fog_color)
+        self.ground.update(scene, self._texture_image(a.ground_texture))
+        self.poles.update(scene)
+        if self.cloth_actor is not None:
+            self._style_cloth()
+        if self.lines_actor is not None:
+            self.lines_actor.SetVisibility(bool(a.show_constraints))
+
+    def _texture_image(self, name: str):
+        if name not in self._textures:
+            try:
+                self._textures[name] = load_texture_image(name)
+            except (OSError, ValueError):
+                self._textures[name] = None  # a missing/broken image draws untextured
+        return self._textures[name]
+
+    def _style_cloth(self) -> None:
+        a = self._scene.appearance
+        prop = self.cloth_actor.prop
+        color = hex_rgb(a.cloth_color)
+        image = self._texture_image(a.cloth_texture)
+        if image is not None:
+            self.cloth_actor.texture = self.pv.Texture(image)
+            color = np.ones(3) * 0.9  # let the image show its own colours
+        else:
+            self.cloth_actor.texture = None
+        prop.color = tuple(color)
+        prop.ambient = 1.0
+        prop.ambient_color = tuple(np.clip(AMBIENT * color, 0, 1))
+        prop.diffuse = 0.8
+        prop.specular = 1.0
+        prop.specular_color = tuple(hex_rgb(a.cloth_specular))
+        prop.specular_power = 30.0
+        prop.style = "wireframe" if a.wireframe else "surface"
+        prop.line_width = 1.0
+
+    # -- the cloth mesh -------------------------------------------------------------------
+    def _build_cloth(self, model, positions: np.ndarray) -> None:
+        pv = self.pv
+        for actor in (self.cloth_actor, self.lines_actor):
+            if actor is not None:
+                self.plotter.remove_actor(actor, render=False)
+        tri = np.asarray(model.triangles, dtype=np.int64)
+        faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
+        self.cloth = pv.PolyData(positions.copy(), faces)
+        self.cloth.active_texture_coordinates = grid_uv(model.n)
+        self.cloth.point_data["Normals"] = vertex_normals(positions, tri)
+        self.cloth.point_data.active_normals_name = "Normals"
+        self.cloth_actor = self.plotter.add_mesh(self.cloth, scalars=None, reset_camera=False,
+                                                 show_scalar_bar=False)
+        self.cloth_actor.mapper.SetScalarVisibility(False)
+        self.cloth_actor.prop.interpolation = "phong"
+        edges = np.asarray(model.edges, dtype=np.int64)
+        lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+        self.lines = pv.PolyData(positions.copy(), lines=lines if len(edges) else None)
+        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family))
+        self.lines_actor = self.plotter.add_mesh(self.lines, scalars="rgb", rgb=True,
+                                                 lighting=False, line_width=1.5,
+                                                 show_scalar_bar=False, reset_camera=False)
+        self._tri = tri
+        self._model = model
+        self._style_cloth()
+        self.lines_actor.SetVisibility(bool(self._scene.appearance.show_constraints))
+
+    def _update_cloth(self, positions: np.ndarray) -> None:
+        self.cloth.points[:] = positions
+        self.cloth.point_data["Normals"][:] = vertex_normals(positions, self._tri)
+        self.cloth.GetPoints().Modified()
+        self.cloth.point_data["Normals"].VTKObject.Modified()
+        self.cloth.Modified()
+        if self.lines_actor.GetVisibility():
+            self.lines.points[:] = positions
+            self.lines.GetPoints().Modified()
+            self.lines.Modified()
+
+    def _good_positions(self, snapshot) -> np.ndarray:
+        """The snapshot's positions if all finite; otherwise the last good ones (or the rest
+        shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
+        x = np.asarray(snapshot.positions, dtype=np.float64)
+        n = snapshot.model.num_particles
+        if x.shape == (n, 3) and np.isfinite(x).all():
+            return x
+        if self._positions is not None and len(self._positions) == n:
+            return self._positions
+        return np.asarray(snapshot.model.rest_positions, dtype=np.float64)
+
+    # -- camera ---------------------------------------------------------------------------
+    def reset_camera(self) -> None:
+        c, s = self._scene.cloth, self._scene.scene
+        scale = max(c.size, 0.25)
+        self.azimuth, self.elevation = HOME_AZIMUTH, HOME_ELEVATION
+        self.distance = HOME_DISTANCE * scale
+        bottom = max(s.floor_height, c.height - c.size) if s.floor else c.height - c.size
+        self.target = np.array([0.0, 0.5 * (c.height + bottom) - 0.1 * scale, 0.0])
+        self._apply_camera()
+
+    def orbit(self, d_azimuth: float, d_elevation: float) -> None:
+        self.azimuth = (self.azimuth + float(d_azimuth)) % 360.0
+        self.elevation = float(np.clip(self.elevation + float(d_elevation), -85.0, 85.0))
+        self._apply_camera()
+
+    def zoom(self, factor: float) -> None:
+        """factor > 1 moves closer."""
+        if factor > 0 and math.isfinite(factor):
+            self.distance = float(np.clip(self.distance / factor, 0.05, 200.0))
+        self._apply_camera()
+
+    def _apply_camera(self) -> None:
+        az, el = math.radians(self.azimuth), math.radians(self.elevation)
+        offset = self.distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
+                                           math.cos(el) * math.cos(az)])
+        cam = self.plotter.camera
+        cam.focal_point = tuple(self.target)
+        cam.position = tuple(self.target + offset)
+        cam.up = (0.0, 1.0, 0.0)
+        cam.view_angle = VIEW_ANGLE
+        cam.clipping_range = (max(0.01, 0.02 * self.distance), self.distance + 40.0)
+
+    # -- drawing --------------------------------------------------------------------------
+    def resize(self, w: int, h: int) -> None:
+        size = check_size(w, h)
+        if size != self.size:
+            self.size = size
+            self.plotter.window_size = size
+
+    def render(self, snapshot) -> np.ndarray:
+        """Draw one snapshot; returns the picture as (H, W, 3) uint8."""
+        if snapshot.scene is not self._scene:
+            self.update_scene(snapshot.scene)
+        positions = self._good_positions(snapshot)
+        if snapshot.model is not self._model:
+            self._build_cloth(snapshot.model, positions)
+        else:
+            self._update_cloth(positions)
+        self._positions = positions
+        self.objects.update(snapshot.objects)
+        if self._scene.appearance.auto_rotate:
+            self.azimuth = (self.azimuth + AUTO_ROTATE_DEG) % 360.0
+        self._apply_camera()
+        image = self._grab()
+        w, h = self.size
+        matrix = self.plotter.camera.GetCompositeProjectionTransformMatrix(w / h, -1, 1)
+        m = np.array([[matrix.GetElement(i, j) for j in range(4)] for i in range(4)])
+        self._pick_state = (m, positions.copy())  # one assignment: readers see old or new
+        return image
+
+    def _grab(self) -> np.ndarray:
+        self.plotter.render()
+        image = self.plotter.screenshot(return_img=True)
+        return np.ascontiguousarray(image[..., :3], dtype=np.uint8)
+
+    def pick(self, u: float, v: float) -> int | None:
+        """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;
+        None when the pointer is not near the sheet. Safe from any thread."""
+        state = self._pick_state
+        if state is None or not (math.isfinite(u) and math.isfinite(v)):
+            return None
+        return pick_nearest(state[0], state[1], u, v)
+
+    def close(self) -> None:
+        if self.plotter is not None:
+            self.plotter.close()
+            self.plotter = None

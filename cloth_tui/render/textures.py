@@ -1,0 +1,110 @@
+"""Procedural textures: the built-in 'maze' (cloth) and 'grass' (ground) images, made here
+from a seeded random generator rather than downloaded, and resolution of texture names.
+
+Regenerate the committed PNGs with `python -m cloth_tui.render.textures`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..scene import TEXTURES_DIR
+
+BUILTIN = ("maze", "grass")
+
+
+def maze_image(cells: int = 16, cell_px: int = 8, seed: int = 426) -> np.ndarray:
+    """A perfect maze (randomised depth-first search), dark walls on a light floor, RGB uint8.
+    The maze tiles: its border is a wall on the top/left only, so copies line up."""
+    rng = np.random.default_rng(seed)
+    grid = np.zeros((2 * cells, 2 * cells), dtype=bool)  # True = open floor
+    seen = np.zeros((cells, cells), dtype=bool)
+    stack = [(0, 0)]
+    seen[0, 0] = True
+    grid[1, 1] = True
+    while stack:
+        i, j = stack[-1]
+        steps = [(di, dj) for di, dj in ((0, 1), (1, 0), (0, -1), (-1, 0))
+                 if 0 <= i + di < cells and 0 <= j + dj < cells and not seen[i + di, j + dj]]
+        if not steps:
+            stack.pop()
+            continue
+        di, dj = steps[rng.integers(len(steps))]
+        ni, nj = i + di, j + dj
+        seen[ni, nj] = True
+        grid[2 * i + 1 + di, 2 * j + 1 + dj] = True  # knock down the wall between
+        grid[2 * ni + 1, 2 * nj + 1] = True
+        stack.append((ni, nj))
+    px = cell_px // 2
+    big = np.repeat(np.repeat(grid, px, axis=0), px, axis=1)
+    floor, wall = np.array([236, 228, 210], np.uint8), np.array([40, 44, 60], np.uint8)
+    return np.where(big[..., None], floor, wall).astype(np.uint8)
+
+
+def _tileable_noise(size: int, cells: int, rng: np.random.Generator) -> np.ndarray:
+    """Value noise on a `cells`-periodic lattice, smoothly interpolated: tiles seamlessly."""
+    lattice = rng.random((cells, cells))
+    t = np.arange(size) * cells / size
+    i0 = np.floor(t).astype(int)
+    f = t - i0
+    f = f * f * (3 - 2 * f)  # smoothstep, so the lattice does not show
+    i1 = (i0 + 1) % cells
+    a = lattice[i0][:, i0] * (1 - f)[None, :] + lattice[i0][:, i1] * f[None, :]
+    b = lattice[i1][:, i0] * (1 - f)[None, :] + lattice[i1][:, i1] * f[None, :]
+    return a * (1 - f)[:, None] + b * f[:, None]
+
+
+def grass_image(size: int = 64, seed: int = 7) -> np.ndarray:
+    """Green multi-octave noise with a few bright blades, RGB uint8, seamlessly tileable.
+    Quantised to a small palette so the PNG stays a few KB."""
+    rng = np.random.default_rng(seed)
+    v = sum(_tileable_noise(size, c, rng) * w for c, w in ((4, 0.5), (8, 0.3), (32, 0.2)))
+    v = (v - v.min()) / (np.ptp(v) + 1e-9)
+    blades = rng.random((size, size)) < 0.06
+    v = np.clip(v + 0.35 * blades, 0.0, 1.0)
+    v = np.round(v * 7) / 7  # 8 shades
+    dark, light = np.array([38, 78, 30.0]), np.array([118, 168, 70.0])
+    return (dark + v[..., None] * (light - dark)).astype(np.uint8)
+
+
+GENERATORS = {"maze": maze_image, "grass": grass_image}
+
+
+def write_builtin(folder: Path = TEXTURES_DIR) -> list[Path]:
+    import imageio.v3 as iio
+
+    folder.mkdir(parents=True, exist_ok=True)
+    out = []
+    for name, make in GENERATORS.items():
+        path = folder / f"{name}.png"
+        iio.imwrite(path, make(), extension=".png")
+        out.append(path)
+    return out
+
+
+def load_texture_image(name: str) -> np.ndarray | None:
+    """RGB uint8 image for a texture setting: None for 'none', a built-in by name (made in
+    memory if its PNG is missing), or a PNG path. Raises OSError/ValueError on a bad file."""
+    if name in ("", "none"):
+        return None
+    if name in GENERATORS:
+        path = TEXTURES_DIR / f"{name}.png"
+        if not path.is_file():
+            return GENERATORS[name]()
+    else:
+        path = Path(name).expanduser()
+    import imageio.v3 as iio
+
+    img = np.asarray(iio.imread(path))
+    if img.ndim == 2:
+        img = np.repeat(img[..., None], 3, axis=2)
+    if img.dtype != np.uint8:  # 16-bit PNGs
+        img = (img.astype(np.float64) / np.iinfo(img.dtype).max * 255).astype(np.uint8)
+    return np.ascontiguousarray(img[..., :3])
+
+
+if __name__ == "__main__":
+    for p in write_builtin():
+        print(f"{p} ({p.stat().st_size} bytes)")
