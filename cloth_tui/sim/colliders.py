@@ -1,18 +1,31 @@
 """Colliders: positional correction with the original's friction rule.
 
-A particle found inside an object (closer than `thickness` to its surface) goes to
+A particle found inside an object's skin (closer than `thickness` to its surface) goes to
     new = F · posFriction + (1 − F) · posNoFriction
-where posNoFriction is the nearest point on the surface (offset by the thickness) and
-posFriction is the particle's previous position carried along with the object's motion;
-the blend is used only when the previous position was outside, as in the original.
+posNoFriction  the nearest surface point, offset outward by the thickness;
+posFriction    the particle's previous position carried along with the object's motion
+               this substep (x_prev + object displacement);
+the blend is used only when the previous position was outside the true surface, as in the
+original (otherwise the particle is simply projected out). F = 1 holds a particle where it
+touched (static friction); F = 0 lets it slide. A blended point that would end inside the
+skin is moved back onto the skin's tangent plane at posNoFriction: all shapes are convex, so
+that plane supports the skin and the result is never inside.
+
+Moving objects follow the original's slow circle (ORBIT_RADIUS, ORBIT_PERIOD); the kernels
+take the object's displacement over the substep so its velocity drags the cloth via friction.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
+
+ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
+ORBIT_PERIOD = 10.0   # s, one revolution (≈ 0.16 m/s: the original's slow drift)
+PLANE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x
 
 
 @dataclass(frozen=True)
@@ -25,38 +38,269 @@ class ObjectPose:
     normal: tuple = (0.0, 1.0, 0.0)
 
 
+# -- kernels --------------------------------------------------------------------------------
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _respond(x, x_prev, i, d, nx, ny, nz, was_outside, dx, dy, dz, friction, thickness):
+    """Move particle i (found at distance d < thickness along outward normal n) out."""
+    px = x[i, 0] + (thickness - d) * nx  # posNoFriction
+    py = x[i, 1] + (thickness - d) * ny
+    pz = x[i, 2] + (thickness - d) * nz
+    if was_outside and friction > 0.0:
+        qx = friction * (x_prev[i, 0] + dx) + (1.0 - friction) * px
+        qy = friction * (x_prev[i, 1] + dy) + (1.0 - friction) * py
+        qz = friction * (x_prev[i, 2] + dz) + (1.0 - friction) * pz
+        s = (qx - px) * nx + (qy - py) * ny + (qz - pz) * nz
+        if s < 0.0:  # behind the skin's tangent plane: back onto it
+            qx -= s * nx
+            qy -= s * ny
+            qz -= s * nz
+        px, py, pz = qx, qy, qz
+    x[i, 0] = px
+    x[i, 1] = py
+    x[i, 2] = pz
+
+
 @njit(nogil=True, cache=True, fastmath=True)
-def collide_floor(x, x_prev, inv_mass, height, friction):
+def collide_floor(x, x_prev, inv_mass, height, friction, thickness):
+    """One-sided horizontal plane y = height: anything below is pushed up (the original)."""
     for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0 or x[i, 1] >= height:
+        d = x[i, 1] - height
+        if inv_mass[i] == 0.0 or d >= thickness:
             continue
-        if x_prev[i, 1] >= height:
-            x[i, 0] = friction * x_prev[i, 0] + (1.0 - friction) * x[i, 0]
-            x[i, 2] = friction * x_prev[i, 2] + (1.0 - friction) * x[i, 2]
-        x[i, 1] = height
+        _respond(x, x_prev, i, d, 0.0, 1.0, 0.0, x_prev[i, 1] > height, 0.0, 0.0, 0.0,
+                 friction, thickness)
 
 
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_plane(x, x_prev, inv_mass, side, px, py, pz, nx, ny, nz, dx, dy, dz,
+                  friction, thickness):
+    """Two-sided infinite plane through p with unit normal n. side[i] = ±1 is the side the
+    particle started on; an infinite plane cannot be walked around, so it keeps it."""
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        sn = side[i]
+        d = sn * ((x[i, 0] - px) * nx + (x[i, 1] - py) * ny + (x[i, 2] - pz) * nz)
+        if d >= thickness:
+            continue
+        d_prev = sn * ((x_prev[i, 0] - px + dx) * nx + (x_prev[i, 1] - py + dy) * ny
+                       + (x_prev[i, 2] - pz + dz) * nz)
+        _respond(x, x_prev, i, d, sn * nx, sn * ny, sn * nz, d_prev > 0.0, dx, dy, dz,
+                 friction, thickness)
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_sphere(x, x_prev, inv_mass, cx, cy, cz, r, dx, dy, dz, friction, thickness):
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        ex = x[i, 0] - cx
+        ey = x[i, 1] - cy
+        ez = x[i, 2] - cz
+        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
+        if dist - r >= thickness:
+            continue
+        if dist < 1e-12:  # at the centre: any direction is nearest; choose up
+            ex, ey, ez, dist = 0.0, 1.0, 0.0, 1.0
+        fx = x_prev[i, 0] + dx - cx  # previous position, relative to the moved centre
+        fy = x_prev[i, 1] + dy - cy
+        fz = x_prev[i, 2] + dz - cz
+        was_outside = fx * fx + fy * fy + fz * fz > r * r
+        _respond(x, x_prev, i, dist - r, ex / dist, ey / dist, ez / dist, was_outside,
+                 dx, dy, dz, friction, thickness)
+
+
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _box_distance(qx, qy, qz, hx, hy, hz):
+    """Signed distance and outward normal of an axis-aligned box (half sides h) at offset q
+    from its centre."""
+    ox = abs(qx) - hx
+    oy = abs(qy) - hy
+    oz = abs(qz) - hz
+    sx = 1.0 if qx >= 0.0 else -1.0
+    sy = 1.0 if qy >= 0.0 else -1.0
+    sz = 1.0 if qz >= 0.0 else -1.0
+    if ox > 0.0 or oy > 0.0 or oz > 0.0:
+        ux = sx * max(ox, 0.0)
+        uy = sy * max(oy, 0.0)
+        uz = sz * max(oz, 0.0)
+        d = math.sqrt(ux * ux + uy * uy + uz * uz)
+        return d, ux / d, uy / d, uz / d
+    if ox >= oy and ox >= oz:  # inside: leave through the nearest face
+        return ox, sx, 0.0, 0.0
+    if oy >= oz:
+        return oy, 0.0, sy, 0.0
+    return oz, 0.0, 0.0, sz
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_box(x, x_prev, inv_mass, cx, cy, cz, hx, hy, hz, dx, dy, dz, friction, thickness):
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        d, nx, ny, nz = _box_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, hx, hy, hz)
+        if d >= thickness:
+            continue
+        d_prev, _, _, _ = _box_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
+                                        x_prev[i, 2] + dz - cz, hx, hy, hz)
+        _respond(x, x_prev, i, d, nx, ny, nz, d_prev > 0.0, dx, dy, dz, friction, thickness)
+
+
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _capsule_offset(qx, qy, qz, ax, ay, az, half):
+    """Offset from the nearest point of the capsule's axis segment to q."""
+    t = min(max(qx * ax + qy * ay + qz * az, -half), half)
+    return qx - t * ax, qy - t * ay, qz - t * az
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_capsule(x, x_prev, inv_mass, cx, cy, cz, ax, ay, az, half, r, dx, dy, dz,
+                    friction, thickness):
+    """Capsule: points within r of the segment c ± half·a (a unit)."""
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        ex, ey, ez = _capsule_offset(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, ax, ay, az, half)
+        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
+        if dist - r >= thickness:
+            continue
+        if dist < 1e-12:  # on the axis: leave perpendicular to it
+            ex, ey, ez = (-ay, ax, 0.0) if abs(az) < 0.9 else (0.0, -az, ay)
+            dist = math.sqrt(ex * ex + ey * ey + ez * ez)
+        fx, fy, fz = _capsule_offset(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
+                                     x_prev[i, 2] + dz - cz, ax, ay, az, half)
+        was_outside = fx * fx + fy * fy + fz * fz > r * r
+        _respond(x, x_prev, i, dist - r, ex / dist, ey / dist, ez / dist, was_outside,
+                 dx, dy, dz, friction, thickness)
+
+
+# -- effects --------------------------------------------------------------------------------
 class CollideFloor:
     name = "collide_floor"
 
     def __init__(self, model, height: float, friction: float, thickness: float):
         self.inv_mass = model.inv_mass
         self.surface = height
-        self.height = height + thickness
-        self.friction = friction
+        self.friction, self.thickness = friction, thickness
 
     def apply(self, state, h):
-        collide_floor(state.x, state.x_prev, self.inv_mass, self.height, self.friction)
+        collide_floor(state.x, state.x_prev, self.inv_mass, self.surface, self.friction,
+                      self.thickness)
 
     def penetration(self, x: np.ndarray) -> float:
         """Deepest any particle is below the floor's surface, m."""
         return float(max(0.0, self.surface - x[:, 1].min()))
 
 
+def orbit_offset(t: float) -> np.ndarray:
+    """Displacement of a moving object at time t: a horizontal circle of ORBIT_RADIUS and
+    ORBIT_PERIOD that passes through the object's own position at t = 0 (it starts where the
+    scene puts it, moving along +x)."""
+    a = 2.0 * math.pi * t / ORBIT_PERIOD
+    return ORBIT_RADIUS * np.array([math.sin(a), 0.0, 1.0 - math.cos(a)])
+
+
+class ObjectCollider:
+    """A sphere, box, plane or capsule; static, or moving along the orbit."""
+
+    def __init__(self, model, kind: str, center, *, radius=0.25, size=(0.5, 0.2, 0.5),
+                 normal=(0.0, 1.0, 0.0), friction=0.9, thickness=0.005, moving=False):
+        self.name = f"collide_{kind}"
+        self.kind, self.moving = kind, moving
+        self.inv_mass = model.inv_mass
+        self.center0 = np.asarray(center, dtype=np.float64)
+        self.center = self.center0.copy()
+        self.radius = float(radius)
+        self.size = np.asarray(size, dtype=np.float64)
+        nrm = np.asarray(normal, dtype=np.float64)
+        self.normal = nrm / np.linalg.norm(nrm)
+        self.friction, self.thickness = float(friction), float(thickness)
+        self.side = np.ones(model.num_particles)  # plane: side of each particle
+        self._sides_known = False
+
+    def center_at(self, t: float) -> np.ndarray:
+        return self.center0 + orbit_offset(t) if self.moving else self.center0
+
+    def apply(self, state, h):
+        before, after = self.center_at(state.t), self.center_at(state.t + h)
+        d = after - before
+        self.center = after
+        c, f, thk, x, xp, w = after, self.friction, self.thickness, state.x, state.x_prev, \
+            self.inv_mass
+        k = self.kind
+        if k == "sphere":
+            collide_sphere(x, xp, w, c[0], c[1], c[2], self.radius, d[0], d[1], d[2], f, thk)
+        elif k == "box":
+            hx, hy, hz = 0.5 * self.size
+            collide_box(x, xp, w, c[0], c[1], c[2], hx, hy, hz, d[0], d[1], d[2], f, thk)
+        elif k == "capsule":
+            a = self.normal
+            collide_capsule(x, xp, w, c[0], c[1], c[2], a[0], a[1], a[2], 0.5 * self.size[1],
+                            self.radius, d[0], d[1], d[2], f, thk)
+        elif k == "plane":
+            if not self._sides_known:  # the side each particle was on before this substep
+                self.side[:] = np.where((xp - before) @ self.normal >= 0.0, 1.0, -1.0)
+                self._sides_known = True
+            n = self.normal
+            collide_plane(x, xp, w, self.side, c[0], c[1], c[2], n[0], n[1], n[2],
+                          d[0], d[1], d[2], f, thk)
+
+    def signed_distance(self, x: np.ndarray) -> np.ndarray:
+        """Distance of each point outside the true surface (negative inside), m."""
+        q = x - self.center
+        k = self.kind
+        if k == "sphere":
+            return np.linalg.norm(q, axis=1) - self.radius
+        if k == "box":
+            o = np.abs(q) - 0.5 * self.size
+            return np.linalg.norm(np.maximum(o, 0.0), axis=1) + np.minimum(o.max(axis=1), 0.0)
+        if k == "capsule":
+            half = 0.5 * self.size[1]
+            t = np.clip(q @ self.normal, -half, half)
+            return np.linalg.norm(q - t[:, None] * self.normal, axis=1) - self.radius
+        s = q @ self.normal  # plane: on each particle's own side
+        return s * self.side if self._sides_known else np.abs(s)
+
+    def penetration(self, x: np.ndarray) -> float:
+        """Deepest any free particle is inside the true surface, m."""
+        free = self.inv_mass != 0.0
+        if not free.any():
+            return 0.0
+        return float(max(0.0, -self.signed_distance(x[free]).min()))
+
+    def pose(self, t: float) -> ObjectPose:
+        c = self.center_at(t)
+        return ObjectPose(self.kind, tuple(float(v) for v in c), self.radius,
+                          tuple(float(v) for v in self.size),
+                          tuple(float(v) for v in self.normal))
+
+
+def single_object(kind: str) -> dict:
+    """The original's single object in SI units (its 500-unit sheet → 1 m): sphere r 0.25
+    resting on the floor (−0.5); box 0.5×0.2×0.5 at the origin; a plane through the origin
+    tilted 20° about x; a capsule lying along x under the sheet's centre."""
+    tilt = math.radians(PLANE_TILT_DEG)
+    return {
+        "sphere": dict(center=(0.0, -0.25, 0.0), radius=0.25),
+        "box": dict(center=(0.0, 0.0, 0.0), size=(0.5, 0.2, 0.5)),
+        "plane": dict(center=(0.0, 0.0, 0.0), normal=(0.0, math.cos(tilt), math.sin(tilt))),
+        "capsule": dict(center=(0.0, -0.1, 0.0), radius=0.15, size=(0.0, 0.5, 0.0),
+                        normal=(1.0, 0.0, 0.0)),
+    }[kind]
+
+
 def build_colliders(scene, model) -> list:
-    """Collider effects the scene enables: the floor, then objects."""
+    """Collider effects the scene enables: the floor, then scene.object, then [[objects]]."""
     s = scene.scene
     out = []
     if s.floor:
         out.append(CollideFloor(model, s.floor_height, s.friction, s.thickness))
+    if s.object != "none":
+        out.append(ObjectCollider(model, s.object, friction=s.friction, thickness=s.thickness,
+                                  moving=s.moving, **single_object(s.object)))
+    for o in scene.objects:
+        out.append(ObjectCollider(model, o.type, o.center, radius=o.radius, size=o.size,
+                                  normal=o.normal, thickness=s.thickness,
+                                  friction=s.friction if o.friction < 0 else o.friction,
+                                  moving=o.motion == "orbit"))
     return out
