@@ -169,6 +169,12 @@ def assemble(scene, model, h: float, force_effects: list, contact_effects: list)
     forces → integrate → contacts (colliders, self-collision) → constraints → pins → velocities.
     """
     b = scene.behavior
+    if b.solver == "xpbd":
+        from . import xpbd
+        return xpbd.assemble(scene, model, h, force_effects, contact_effects)
+    if b.solver == "springs":
+        from . import springs
+        return springs.assemble(scene, model, h, force_effects, contact_effects)
     effects = list(force_effects)
     effects.append(IntegrateVerlet(model, b.damping, h, b.max_speed))
     effects += contact_effects

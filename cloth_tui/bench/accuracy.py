@@ -1,0 +1,389 @@
+"""What accuracy costs in time: a work-precision study of the solvers and integrators.
+
+The test scene (documented in docs/accuracy.md): an 8×8 sheet, 0.5 m, 0.2 kg, starting flat
+and at rest, pinned at the two corners of one edge (particles (0,0) and (0,7)), swinging down
+under gravity 9.81 m/s²; no floor, no damping, no spring damping, structural + shear + bending
+springs of stiffness `stiffness`. The state at `t_end` is compared with a reference computed
+by the springs solver with RK4 at a tiny timestep `ref_dt`.
+
+Every run is driven here, substep by substep, through `pipeline.build(...).substep` — not
+through the runner, whose recovery would retry a diverging frame with more substeps and so
+hide instability. A run that produces NaN/inf, stretches an edge past `BLOWUP_STRETCH` or
+moves a particle further than `BLOWUP_DISTANCE` from its start is stopped and marked
+stable = False; the study never raises on an unstable run.
+
+Plain functions returning data; printing, JSON and plotting are in accuracy_cli.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..scene import Scene
+from ..sim import pipeline
+from ..sim.model import build_model
+from ..sim.springs import ORDERS, spring_energy
+from ..sim.state import ClothState
+from ..sim.xpbd import compliant_energy
+
+INTEGRATORS = tuple(ORDERS)           # springs integrators, in the order of the tables
+BLOWUP_STRETCH = 1.0                  # |L/L0 − 1| beyond which a run counts as blown up
+BLOWUP_DISTANCE = 10.0                # × sheet size: a particle this far from its start
+CHECK_INTERVAL = 0.01                 # s of simulated time between blow-up checks
+MAX_RATE = 10000.0                    # scene.behavior.frame_rate upper bound
+TIMING_REPEATS = 5                    # at most this many timings of one point (fastest kept)
+
+
+@dataclass
+class StudyConfig:
+    """Everything that defines the study; `quick()` and `full()` are the two shipped sizes."""
+    n: int = 8
+    size: float = 0.5                 # m
+    mass: float = 0.2                 # kg, whole sheet
+    gravity: float = 9.81             # m/s²
+    stiffness: float = 50.0           # N/m, springs (xpbd uses compliance = 1/stiffness)
+    t_end: float = 0.5                # s
+    ref_dt: float = 1.0 / 32000       # s, RK4 reference
+    # timesteps per springs integrator (s); each ladder is in its asymptotic range
+    ladders: dict = field(default_factory=dict)
+    pbd_dts: tuple = ()               # timesteps for pbd and xpbd
+    pbd_iterations: tuple = (4, 16)
+    stability_stiffness: tuple = ()   # N/m, the three stiffnesses of the stability map
+    stability_t_end: float = 0.5      # s, horizon of a stability run
+    stability_range: tuple = (1e-5, 0.02)  # s, bisection bracket of dt
+    stability_bisections: int = 7
+    sag_iterations: tuple = (1, 4, 16, 64)
+    sag_compliance: float = 0.005     # m/N for xpbd in the sag study
+    sag_t_end: float = 3.0            # s, settling time of the sag study
+    sag_damping: float = 0.1          # behavior.damping while settling
+    sag_substeps: int = 4             # per 1/60 s frame
+    timing_budget: float = 0.2        # s: a point is re-timed while its runs took less
+
+    @classmethod
+    def full(cls) -> "StudyConfig":
+        n = lambda *ks: tuple(1.0 / k for k in ks)  # noqa: E731
+        return cls(
+            ladders={
+                "explicit_euler": n(2000, 4000, 8000, 16000),
+                "symplectic_euler": n(250, 500, 1000, 2000, 4000),
+                "verlet": n(250, 500, 1000, 2000, 4000),
+                "midpoint": n(500, 1000, 2000, 4000, 8000),
+                "rk4": n(125, 250, 500, 1000, 2000),
+                "implicit_euler": n(1000, 2000, 4000, 8000, 16000),
+            },
+            pbd_dts=n(60, 120, 240, 480, 960),
+            pbd_iterations=(1, 4, 16, 64),
+            stability_stiffness=(20.0, 200.0, 2000.0),
+            stability_bisections=9,
+        )
+
+    @classmethod
+    def quick(cls) -> "StudyConfig":
+        n = lambda *ks: tuple(1.0 / k for k in ks)  # noqa: E731
+        return cls(
+            ref_dt=1.0 / 16000,
+            ladders={
+                "explicit_euler": n(2000, 4000, 8000),
+                "symplectic_euler": n(500, 1000, 2000),
+                "verlet": n(250, 500, 1000),
+                "midpoint": n(1000, 2000, 4000),
+                "rk4": n(125, 250, 500),
+                "implicit_euler": n(2000, 4000, 8000),
+            },
+            pbd_dts=n(60, 240, 960),
+            pbd_iterations=(4, 16),
+            stability_stiffness=(20.0, 200.0, 2000.0),
+            stability_bisections=6,
+            sag_t_end=2.0,
+        )
+
+
+# --- the scene -------------------------------------------------------------------------------
+
+def study_scene(cfg: StudyConfig, solver: str = "springs", integrator: str = "rk4",
+                dt: float = 1e-3, iterations: int = 4, stiffness: float | None = None,
+                compliance: float | None = None, damping: float = 0.0,
+                pinned: str = "two_corners") -> Scene:
+    """The test scene with substep `dt` (frame_rate·substeps = 1/dt)."""
+    k = cfg.stiffness if stiffness is None else stiffness
+    substeps = max(1, math.ceil(1.0 / (dt * MAX_RATE)))
+    s = Scene(name="accuracy")
+    c, f, sc, b = s.cloth, s.forces, s.scene, s.behavior
+    c.resolution, c.size, c.mass, c.height = cfg.n, cfg.size, cfg.mass, 0.0
+    c.pinned = "corners" if pinned == "corners" else "one_edge"  # two corners: see study_model
+    f.gravity, f.gravity_strength = True, cfg.gravity
+    sc.floor = False
+    b.solver = solver
+    b.integrator = integrator if solver == "springs" else "verlet"
+    b.stiffness = k
+    b.spring_damping = 0.0
+    b.compliance = 1.0 / k if compliance is None else compliance
+    b.damping = damping
+    b.iterations = iterations
+    b.substeps = substeps
+    b.frame_rate = 1.0 / (dt * substeps)
+    b.max_speed = 1e5
+    return s
+
+
+def study_model(scene: Scene, pinned: str = "two_corners"):
+    """The scene's model; `two_corners` pins only particles (0,0) and (0,n−1)."""
+    model = build_model(scene.cloth, scene.behavior)
+    if pinned != "two_corners":
+        return model
+    n = model.n
+    pins = np.array([0, n - 1], dtype=np.int64)
+    inv_mass = 1.0 / model.mass
+    inv_mass[pins] = 0.0
+    for a in (pins, inv_mass):
+        a.setflags(write=False)
+    return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass)
+
+
+def energy(model, state, scene) -> float:
+    """Kinetic + gravitational + elastic energy, J (elastic: springs k, xpbd 1/α, pbd none)."""
+    m = model.mass
+    e = 0.5 * float(np.dot(m, np.einsum("ij,ij->i", state.v, state.v)))
+    e += scene.forces.gravity_strength * float(np.dot(m, state.x[:, 1]))
+    b = scene.behavior
+    if b.solver == "springs":
+        e += spring_energy(state.x, model.edges, model.rest_length, b.stiffness)
+    elif b.solver == "xpbd":
+        e += compliant_energy(state.x, model.edges, model.rest_length, b.compliance)
+    return e
+
+
+def max_stretch(model, x) -> float:
+    e = model.edges
+    d = x[e[:, 0]] - x[e[:, 1]]
+    return float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / model.rest_length - 1)))
+
+
+@dataclass
+class Run:
+    x: np.ndarray | None      # final positions (None when unstable)
+    stable: bool
+    wall: float               # s of wall time for the whole run
+    stretch: float            # max |L/L0 − 1| seen at the checks
+    energy_drift: float       # (E(t_end) − E(0)) / (M g size)
+    steps: int
+
+
+def simulate(scene: Scene, model, t_end: float) -> Run:
+    """Advance the scene to t_end substep by substep, with blow-up checks and no recovery."""
+    step = pipeline.build(scene, model)
+    state = ClothState.from_model(model)
+    h = step.h
+    steps = max(1, int(round(t_end / h)))
+    check = max(1, int(round(CHECK_INTERVAL / h)))
+    e0 = energy(model, state, scene)
+    scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.size
+    x0 = state.x.copy()
+    limit = BLOWUP_DISTANCE * model.size
+    stretch, stable, wall = 0.0, True, 0.0
+    done = 0
+    with np.errstate(all="ignore"):
+        while done < steps:
+            chunk = min(check, steps - done)
+            t0 = time.perf_counter()
+            for _ in range(chunk):
+                step.substep(state)
+            wall += time.perf_counter() - t0
+            done += chunk
+            x = state.x
+            if not state.is_finite():
+                stable = False
+                break
+            s = max_stretch(model, x)
+            stretch = max(stretch, s)
+            if s > BLOWUP_STRETCH or float(np.max(np.abs(x - x0))) > limit:
+                stable = False
+                break
+    drift = (energy(model, state, scene) - e0) / scale if stable else math.nan
+    return Run(state.x.copy() if stable else None, stable, wall, stretch if stable else math.inf,
+               drift, done)
+
+
+# --- the study -------------------------------------------------------------------------------
+
+def errors(x, x_ref) -> tuple[float, float]:
+    """RMS and max over particles of |x − x_ref|, m."""
+    d = np.sqrt(np.einsum("ij,ij->i", x - x_ref, x - x_ref))
+    return float(np.sqrt(np.mean(d * d))), float(d.max())
+
+
+def reference(cfg: StudyConfig) -> dict:
+    """RK4 at ref_dt, and an estimate of its own error from a run at 2·ref_dt (Richardson:
+    e(ref) ≈ |x(2h) − x(h)| / (2⁴ − 1))."""
+    sc = study_scene(cfg, "springs", "rk4", cfg.ref_dt)
+    model = study_model(sc)
+    fine = simulate(sc, model, cfg.t_end)
+    coarse = simulate(study_scene(cfg, "springs", "rk4", 2 * cfg.ref_dt), model, cfg.t_end)
+    est = errors(coarse.x, fine.x)[0] / 15.0 if fine.stable and coarse.stable else math.nan
+    return {"method": "rk4", "dt": cfg.ref_dt, "t_end": cfg.t_end, "x": fine.x,
+            "error_estimate": est, "time": fine.wall / cfg.t_end,
+            "stiffness": cfg.stiffness, "stable": fine.stable}
+
+
+def point(cfg: StudyConfig, ref: dict, method: str, dt: float, iterations: int | None = None,
+          stiffness: float | None = None) -> dict:
+    """One run of the study, compared with the reference."""
+    solver = method if method in ("pbd", "xpbd") else "springs"
+    sc = study_scene(cfg, solver, method if solver == "springs" else "verlet", dt,
+                     iterations or 1, stiffness)
+    model = study_model(sc)
+    try:
+        run = simulate(sc, model, cfg.t_end)
+    except (FloatingPointError, OverflowError, ZeroDivisionError, ValueError):
+        run = Run(None, False, 0.0, math.inf, math.nan, 0)
+    if run.stable:
+        err, max_err = errors(run.x, ref["x"])
+        # Other processes share the cores: a cheap run is repeated and its fastest time kept.
+        walls = [run.wall]
+        while sum(walls) < cfg.timing_budget and len(walls) < TIMING_REPEATS:
+            walls.append(simulate(sc, model, cfg.t_end).wall)
+        wall = min(walls)
+    else:
+        err = max_err = wall = math.nan
+    return {"method": method, "dt": dt, "iterations": iterations, "error": err,
+            "max_error": max_err, "time": wall / cfg.t_end,
+            "stable": run.stable, "stretch": run.stretch, "energy_drift": run.energy_drift}
+
+
+def warm_up(cfg: StudyConfig) -> None:
+    """Compile (or load the cached) kernels of every method, so no run pays for it."""
+    tiny = dataclasses.replace(cfg, t_end=4 * CHECK_INTERVAL, timing_budget=0.0)
+    ref = {"x": np.zeros((cfg.n * cfg.n, 3))}
+    for m in INTEGRATORS + ("pbd", "xpbd"):
+        point(tiny, ref, m, 1e-3, 2)
+
+
+def measured_order(points: list[dict], floor: float, ceiling: float) -> dict:
+    """Slope of log(error) against log(dt) over the stable asymptotic range: the finest
+    consecutive stable points whose error is above `floor` (10× the reference's error) and
+    below `ceiling`, at most four of them, least squares."""
+    pts = sorted((p for p in points if p["stable"] and floor < p["error"] < ceiling),
+                 key=lambda p: p["dt"])
+    pts = pts[:4]
+    if len(pts) < 2:
+        return {"order": math.nan, "dt_range": None, "points": len(pts)}
+    lx = np.log([p["dt"] for p in pts])
+    ly = np.log([p["error"] for p in pts])
+    slope = float(np.polyfit(lx, ly, 1)[0])
+    return {"order": slope, "dt_range": [pts[0]["dt"], pts[-1]["dt"]], "points": len(pts)}
+
+
+def is_stable(cfg: StudyConfig, integrator: str, dt: float, stiffness: float) -> bool:
+    sc = study_scene(cfg, "springs", integrator, dt, stiffness=stiffness)
+    try:
+        return simulate(sc, study_model(sc), cfg.stability_t_end).stable
+    except (FloatingPointError, OverflowError, ZeroDivisionError, ValueError):
+        return False
+
+
+def largest_stable_dt(cfg: StudyConfig, integrator: str, stiffness: float) -> dict:
+    """Bisection in log dt over `stability_range` for the largest dt whose run to
+    stability_t_end stays stable. Returns the bracket; `at_least` when even the largest dt
+    of the range is stable (unconditionally stable here), `below` when none is."""
+    lo, hi = cfg.stability_range
+    if is_stable(cfg, integrator, hi, stiffness):
+        return {"dt": hi, "bracket": [hi, hi], "note": "at_least"}
+    if not is_stable(cfg, integrator, lo, stiffness):
+        return {"dt": lo, "bracket": [0.0, lo], "note": "below"}
+    for _ in range(cfg.stability_bisections):
+        mid = math.sqrt(lo * hi)
+        if is_stable(cfg, integrator, mid, stiffness):
+            lo = mid
+        else:
+            hi = mid
+    return {"dt": lo, "bracket": [lo, hi], "note": ""}
+
+
+def stability_map(cfg: StudyConfig) -> dict:
+    """Largest stable timestep of each springs integrator at each of three stiffnesses,
+    and ω0 = √(k/m) of each stiffness: a limit dt·ω0 that stays the same across stiffnesses
+    means the limit scales as 1/√k."""
+    m = cfg.mass / (cfg.n * cfg.n)
+    out = {"t_end": cfg.stability_t_end, "range": list(cfg.stability_range),
+           "stiffness": list(cfg.stability_stiffness), "methods": {}}
+    for integ in INTEGRATORS:
+        out["methods"][integ] = {f"{k:g}": largest_stable_dt(cfg, integ, k)
+                                 for k in cfg.stability_stiffness}
+    out["omega0"] = {f"{k:g}": math.sqrt(k / m) for k in cfg.stability_stiffness}
+    return out
+
+
+def sag_study(cfg: StudyConfig) -> dict:
+    """Settled sag (drop of the centre) of the sheet pinned at its four corners, for pbd and
+    xpbd at each of `sag_iterations`; damping `sag_damping` while settling for `sag_t_end`.
+    xpbd uses compliance `sag_compliance` (stiffness 1/α); the springs solver with that
+    stiffness and implicit Euler gives the converged answer for comparison."""
+    n = cfg.n
+    c = [(n // 2 - 1) * n + n // 2 - 1, (n // 2 - 1) * n + n // 2,
+         (n // 2) * n + n // 2 - 1, (n // 2) * n + n // 2] if n % 2 == 0 else [(n * n) // 2]
+    dt = 1.0 / (60 * cfg.sag_substeps)
+    rows = {"pbd": {}, "xpbd": {}}
+    for solver in rows:
+        for it in cfg.sag_iterations:
+            sc = study_scene(cfg, solver, "verlet", dt, it, compliance=cfg.sag_compliance,
+                             damping=cfg.sag_damping, pinned="corners")
+            run = simulate(sc, study_model(sc, "corners"), cfg.sag_t_end)
+            rows[solver][str(it)] = -float(run.x[c, 1].mean()) if run.stable else math.nan
+    k = 1.0 / cfg.sag_compliance
+    sc = study_scene(cfg, "springs", "implicit_euler", dt, stiffness=k, damping=cfg.sag_damping,
+                     pinned="corners")
+    run = simulate(sc, study_model(sc, "corners"), cfg.sag_t_end)
+    spread = {s: (max(v.values()) - min(v.values())) for s, v in rows.items()}
+    return {"iterations": list(cfg.sag_iterations), "sag": rows,
+            "spread": spread,
+            "springs_implicit_euler": -float(run.x[c, 1].mean()) if run.stable else math.nan,
+            "compliance": cfg.sag_compliance, "dt": dt, "t_end": cfg.sag_t_end,
+            "damping": cfg.sag_damping}
+
+
+def run_study(cfg: StudyConfig, progress=None) -> dict:
+    """The whole study: reference, work-precision points, orders, stability map, sag."""
+    say = progress or (lambda msg: None)
+    t_start = time.perf_counter()
+    say("compiling kernels")
+    warm_up(cfg)
+    say(f"reference: rk4 at dt = {cfg.ref_dt:.3g} s")
+    ref = reference(cfg)
+    points = []
+    for integ in INTEGRATORS:
+        say(f"springs/{integ}")
+        for dt in cfg.ladders.get(integ, ()):
+            points.append(point(cfg, ref, integ, dt))
+    for solver in ("pbd", "xpbd"):
+        say(solver)
+        for it in cfg.pbd_iterations:
+            for dt in cfg.pbd_dts:
+                points.append(point(cfg, ref, solver, dt, it))
+    floor = 10.0 * ref["error_estimate"] if math.isfinite(ref["error_estimate"]) else 0.0
+    ceiling = 0.02 * cfg.size
+    orders = {}
+    for integ in INTEGRATORS:
+        o = measured_order([p for p in points if p["method"] == integ], floor, ceiling)
+        o["theory"] = ORDERS[integ]
+        orders[integ] = o
+    say("stability map")
+    stab = stability_map(cfg)
+    say("sag study")
+    sag = sag_study(cfg)
+    reference_out = {k: v for k, v in ref.items() if k != "x"}
+    reference_out["error_floor"] = floor
+    return {"scene": describe(cfg), "reference": reference_out, "points": points,
+            "orders": orders, "stability": stab, "sag": sag,
+            "elapsed": time.perf_counter() - t_start}
+
+
+def describe(cfg: StudyConfig) -> dict:
+    return {"n": cfg.n, "size": cfg.size, "mass": cfg.mass, "gravity": cfg.gravity,
+            "stiffness": cfg.stiffness, "t_end": cfg.t_end, "pinned": "two corners (0,0), (0,n−1)",
+            "floor": False, "damping": 0.0, "spring_damping": 0.0,
+            "xpbd_compliance": 1.0 / cfg.stiffness}
