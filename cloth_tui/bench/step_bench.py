@@ -40,7 +40,7 @@ def bench_step(n: int, iterations: int = 4, quick: bool = False) -> dict:
     baseline = time_calls(lambda: ref.substep(s2.x, s2.x_prev, s2.v, s2.anchors),
                           block_s=block_s, blocks=blocks, warmup=1)
     projections = model.num_constraints * iterations
-    kernel = next(e.kernel.__name__ for e in step.effects if e.name == "project_constraints")
+    kernel = next(e.kernel_name for e in step.effects if e.name == "project_constraints")
     return {
         "n": n, "iterations": iterations, "constraints": model.num_constraints,
         "effects": step.names, "projection_kernel": kernel,

@@ -12,6 +12,7 @@ All kernels are compiled with nogil so the simulation thread leaves the GIL to t
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from numba import njit, prange
@@ -131,20 +132,45 @@ class IntegrateVerlet:
 
 
 class ProjectConstraints:
+    """Projects the constraints with the serial or the parallel kernel, whichever is faster
+    now. Two threads win on an idle machine at large sheets; when the render and UI threads
+    (or anything else) hold the other core, a parallel kernel waits at every colour's barrier
+    and loses several times over. So the choice is measured, not assumed: the other kernel is
+    re-timed every PROBE_EVERY calls."""
+
     name = "project_constraints"
+    PROBE_EVERY = 64
 
     def __init__(self, model, iterations: int):
         self.model = model
         self.iterations = iterations
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
-        self.kernel = (project_distance_constraints_parallel
-                       if per_color >= PARALLEL_MIN_PER_COLOR
-                       else project_distance_constraints)
+        self.kernels = [project_distance_constraints]
+        if per_color >= PARALLEL_MIN_PER_COLOR:
+            self.kernels.append(project_distance_constraints_parallel)
+        self.cost = [0.0] * len(self.kernels)  # seconds per call, latest estimate
+        self.choice = len(self.kernels) - 1
+        self.calls = 0
+
+    @property
+    def kernel_name(self) -> str:
+        return self.kernels[self.choice].__name__
 
     def apply(self, state, h):
         m = self.model
-        self.kernel(state.x, m.inv_mass, m.edges, m.rest_length, m.color_offsets,
-                    self.iterations)
+        args = (state.x, m.inv_mass, m.edges, m.rest_length, m.color_offsets, self.iterations)
+        if len(self.kernels) == 1:
+            self.kernels[0](*args)
+            return
+        self.calls += 1
+        k = self.choice
+        if self.calls % self.PROBE_EVERY == 0 or not all(self.cost):
+            k = next((i for i, c in enumerate(self.cost) if not c), 1 - self.choice)
+        t0 = time.perf_counter()
+        self.kernels[k](*args)
+        dt = time.perf_counter() - t0
+        self.cost[k] = dt if k != self.choice or not self.cost[k] else 0.8 * self.cost[k] + 0.2 * dt
+        self.choice = int(self.cost[1] < self.cost[0]) if all(self.cost) else self.choice
 
 
 class ApplyPins:
