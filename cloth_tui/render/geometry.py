@@ -1,5 +1,5 @@
 """NumPy-only geometry for the renderer: vertex normals, grid texture coordinates, colours,
-the fogged ground's vertex colours, and picking by projection. No VTK here, so `pick` can run
+fog opacity, and picking by projection. No VTK here, so `pick` can run
 on any thread and these pieces are testable without GL."""
 
 from __future__ import annotations
@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0])  # original's
+
 LIGHT_COLOR = np.array([0xdf, 0xeb, 0xff]) / 255.0
 AMBIENT = 0.4  # the original's 0x666666 ambient light
 
@@ -42,20 +43,6 @@ def grid_uv(n: int) -> np.ndarray:
 
 def fog_factor(r: np.ndarray, near: float, far: float) -> np.ndarray:
     return np.clip((r - near) / (far - near), 0.0, 1.0) ** 0.8
-
-
-def ground_colors(points: np.ndarray, ground: np.ndarray, emissive: np.ndarray,
-                  fog: np.ndarray, near: float, far: float, textured: bool) -> np.ndarray:
-    """Lit, fogged colour of each ground vertex, RGB uint8. The ground is flat and the light
-    directional, so its lighting is one constant we can apply here; fog then blends toward
-    the background by distance from the centre, hiding the ground's edge in the horizon."""
-    diffuse = max(0.0, LIGHT_DIR[1])
-    base = np.ones(3) if textured else ground  # a texture carries its own colour
-    lit = np.clip(base * (AMBIENT + 0.75 * diffuse * LIGHT_COLOR) + emissive, 0.0, 1.0)
-    r = np.hypot(points[:, 0], points[:, 2])
-    f = fog_factor(r, near, far)[:, None]
-    rgb = lit[None, :] * (1.0 - f) + fog[None, :] * f
-    return (rgb * 255.0 + 0.5).astype(np.uint8)
 
 
 def family_colors(family: np.ndarray) -> np.ndarray:

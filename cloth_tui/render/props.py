@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import ground_colors, hex_rgb
+from .geometry import AMBIENT, fog_factor, hex_rgb
 
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge
 FOG_NEAR, FOG_FAR = 2.0, 11.0  # m from the centre: the original's fog, scaled to its camera
@@ -17,40 +17,55 @@ PLANE_HALF = 1.25  # m: shown extent of an (infinite) collision plane
 
 
 class Ground:
-    """A disc at the floor height with per-vertex fog, optionally textured (tiled)."""
+    """A lit disc at the floor height, optionally textured (tiled), under a translucent fog
+    disc whose opacity grows with distance from the centre: the ground fades into the
+    background colour and its edge vanishes, as with the original's linear fog. (A separate
+    fog layer, because VTK drops vertex colours on a textured mesh.)"""
 
     def __init__(self, pv, plotter):
         self.pv = pv
         disc = pv.Disc(inner=0.0, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=40, c_res=96)
-        disc = disc.triangulate()
-        self.mesh = disc
-        pts = np.asarray(disc.points)
-        self.base_points = pts.copy()
-        self.base_points[:, 1] = 0.0
+        self.mesh = disc.triangulate()
+        pts = np.asarray(self.mesh.points)
         self.mesh.active_texture_coordinates = pts[:, [0, 2]] / 0.5  # one tile per 0.5 m
-        self.mesh.point_data["rgb"] = np.zeros((len(pts), 3), np.uint8)
-        self.actor = plotter.add_mesh(self.mesh, scalars="rgb", rgb=True, lighting=False,
-                                      show_scalar_bar=False, reset_camera=False)
-        self.texture_name = "none"
+        self.actor = plotter.add_mesh(self.mesh, reset_camera=False, ambient=1.0,
+                                      diffuse=0.75, specular=0.0)
+        # Only the ring where fog is non-zero: translucent pixels cost most in software GL.
+        self.fog = pv.Disc(inner=FOG_NEAR, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=30,
+                           c_res=96).triangulate()
+        fog_pts = np.asarray(self.fog.points)
+        self.fog_alpha = fog_factor(np.hypot(fog_pts[:, 0], fog_pts[:, 2]), FOG_NEAR, FOG_FAR)
+        self.fog.point_data["rgba"] = np.zeros((len(fog_pts), 4), np.uint8)
+        self.fog_actor = plotter.add_mesh(self.fog, scalars="rgba", rgba=True, lighting=False,
+                                          show_scalar_bar=False, reset_camera=False)
 
     def update(self, scene, texture_image) -> None:
         s, a = scene.scene, scene.appearance
-        self.actor.SetVisibility(bool(s.floor))
+        for actor in (self.actor, self.fog_actor):
+            actor.SetVisibility(bool(s.floor))
         self.mesh.points[:, 1] = s.floor_height
-        self.mesh.Modified()
-        textured = texture_image is not None
-        if textured:
+        self.fog.points[:, 1] = s.floor_height + 0.002  # just above, never through the cloth
+        for mesh in (self.mesh, self.fog):
+            mesh.GetPoints().Modified()
+            mesh.Modified()
+        if texture_image is not None:
             tex = self.pv.Texture(texture_image)
             tex.repeat = True
             tex.mipmap = True
             tex.interpolate = True
             self.actor.texture = tex
+            base = np.ones(3)  # a texture carries its own colour
         else:
             self.actor.texture = None
-        self.mesh.point_data["rgb"][:] = ground_colors(
-            self.base_points, hex_rgb(a.ground_color), hex_rgb(a.ground_emissive),
-            hex_rgb(a.fog_color), FOG_NEAR, FOG_FAR, textured)
-        self.mesh.point_data.Modified()
+            base = hex_rgb(a.ground_color)
+        prop = self.actor.prop
+        prop.color = tuple(base)
+        prop.ambient_color = tuple(np.clip(AMBIENT * base + hex_rgb(a.ground_emissive), 0, 1))
+        rgba = self.fog.point_data["rgba"]
+        rgba[:, :3] = (hex_rgb(a.fog_color) * 255 + 0.5).astype(np.uint8)
+        rgba[:, 3] = (self.fog_alpha * 255 + 0.5).astype(np.uint8)
+        self.fog.point_data["rgba"].VTKObject.Modified()
+        self.fog.Modified()
 
 
 class Poles:

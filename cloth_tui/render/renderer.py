@@ -21,7 +21,7 @@ from .vtk_setup import pyvista_quiet
 
 VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
 HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), seen from the side
-HOME_ELEVATION = 17.0      # degrees: raised a little so the sheet's top is visible
+HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visible
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
 MAX_SIZE = 8192
@@ -166,7 +166,7 @@ class Renderer:
         self.azimuth, self.elevation = HOME_AZIMUTH, HOME_ELEVATION
         self.distance = HOME_DISTANCE * scale
         bottom = max(s.floor_height, c.height - c.size) if s.floor else c.height - c.size
-        self.target = np.array([0.0, 0.5 * (c.height + bottom) - 0.1 * scale, 0.0])
+        self.target = np.array([0.0, 0.5 * (c.height + bottom) + 0.05 * scale, 0.0])
         self._apply_camera()
 
     def orbit(self, d_azimuth: float, d_elevation: float) -> None:

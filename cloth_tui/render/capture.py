@@ -1,0 +1,223 @@
+"""Writing pictures to disk: screenshots (PNG), videos (MP4, GIF) and the rate-limited preview
+file. Nothing here touches VTK; images come in as (H, W, 3) uint8 arrays.
+
+Crash safety:
+- PNG (screenshots, preview.png) is written to a temp name beside the target and renamed, so a
+  reader never sees half a file.
+- MP4 is H.264 in *fragmented* MP4, a self-contained fragment about every second (GOP = fps).
+  While recording, the file is `NAME.partial.mp4`; a clean finish renames it to `NAME.mp4`.
+  If the process is killed (even SIGKILL), `NAME.partial.mp4` stays behind and plays up to its
+  last complete fragment: there is no index at the end to lose.
+- GIF frames are held in memory and written (temp name, then rename) when the video ends;
+  a killed GIF recording leaves nothing.
+Every failure to write surfaces as CaptureError with a one-line message.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+import time
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+
+VIDEO_SUFFIXES = (".mp4", ".gif")
+PREVIEW_NAME = "preview.png"
+
+
+class CaptureError(Exception):
+    """A capture could not be written (folder missing or read-only, disk full, encoder
+    failure). The message is one line, fit to show the user."""
+
+
+def _reason(e: BaseException) -> str:
+    text = getattr(e, "strerror", None) or str(e).strip()
+    return text.splitlines()[0] if text else type(e).__name__
+
+
+def ensure_folder(folder: Path) -> Path:
+    """Create the captures folder if needed; CaptureError if it cannot be written."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise CaptureError(f"cannot create captures folder {folder}: {_reason(e)}") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise CaptureError(f"captures folder {folder} is not writable")
+    return folder
+
+
+def timestamped(folder: Path, prefix: str, suffix: str) -> Path:
+    """A new file name in `folder`, e.g. cloth-20260101-120000.png, never an existing one."""
+    stamp = datetime.now().strftime("%Y%m%d-%H%M%S")
+    path = folder / f"{prefix}-{stamp}{suffix}"
+    k = 1
+    while path.exists() or path.with_name(partial_name(path)).exists():
+        k += 1
+        path = folder / f"{prefix}-{stamp}-{k}{suffix}"
+    return path
+
+
+def partial_name(path: Path) -> str:
+    return f"{path.stem}.partial{path.suffix}"
+
+
+def _encode_png(image: np.ndarray, fh, compress_level: int = 6) -> None:
+    import imageio.v3 as iio
+    fh.write(iio.imwrite("<bytes>", image, extension=".png", compress_level=compress_level))
+
+
+def save_png(image: np.ndarray, path: Path, compress_level: int = 6) -> Path:
+    """Write atomically (temp file in the same folder, then rename)."""
+    path = Path(path)
+    tmp = None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
+                                   dir=path.parent if str(path.parent) else ".")
+        os.fchmod(fd, 0o644)  # mkstemp's 0600 would hide captures from other users/viewers
+        with os.fdopen(fd, "wb") as fh:
+            _encode_png(np.ascontiguousarray(image), fh, compress_level)
+        os.replace(tmp, path)
+        tmp = None
+    except OSError as e:
+        raise CaptureError(f"cannot write {path}: {_reason(e)}") from None
+    finally:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+    return path
+
+
+def fit_frame(image: np.ndarray, w: int, h: int) -> np.ndarray:
+    """Crop or pad (repeating the edge) to exactly w×h: a video keeps the size it started
+    with even if the view is resized while recording; nothing is rescaled."""
+    image = image[:h, :w]
+    ph, pw = h - image.shape[0], w - image.shape[1]
+    if ph or pw:
+        image = np.pad(image, ((0, ph), (0, pw), (0, 0)), mode="edge")
+    return np.ascontiguousarray(image)
+
+
+class VideoWriter:
+    """Frames in, an MP4 or GIF out (see the module notes on crash safety)."""
+
+    def __init__(self, path: Path, fps: float, size: tuple[int, int]):
+        self.path = Path(path)
+        self.fps = float(fps)
+        self.size = (int(size[0]), int(size[1]))
+        self.kind = self.path.suffix.lower()
+        if self.kind not in VIDEO_SUFFIXES:
+            raise CaptureError(f"{self.path}: unsupported video type; use .mp4 or .gif")
+        if not os.access(self.path.parent if str(self.path.parent) else ".", os.W_OK):
+            raise CaptureError(f"cannot write {self.path}: folder is not writable")
+        self.frames = 0
+        self.closed = False
+        self._gif: list[np.ndarray] = []
+        self._encoder = None
+        self.partial = self.path.with_name(partial_name(self.path))
+        if self.kind == ".mp4":
+            self._start_mp4()
+
+    def _start_mp4(self) -> None:
+        import imageio_ffmpeg
+
+        w, h = self.size
+        # yuv420p (what every player decodes) needs even sides: pad by one edge pixel rather
+        # than rescale, so odd sizes come out 1 px larger, never blurred.
+        self.encoded_size = (w + w % 2, h + h % 2)
+        gop = str(max(1, round(self.fps)))
+        try:
+            self._encoder = imageio_ffmpeg.write_frames(
+                str(self.partial), self.encoded_size, fps=self.fps, codec="libx264",
+                quality=None, macro_block_size=1, ffmpeg_log_level="error",
+                output_params=["-crf", "20", "-preset", "veryfast", "-g", gop,
+                               "-movflags", "frag_keyframe+empty_moov+default_base_moof"])
+            self._encoder.send(None)  # starts ffmpeg
+        except (OSError, RuntimeError) as e:
+            raise CaptureError(f"cannot start the video encoder for {self.path}: "
+                               f"{_reason(e)}") from None
+
+    def write(self, image: np.ndarray) -> None:
+        if self.closed:
+            return
+        w, h = self.size
+        frame = fit_frame(np.asarray(image, dtype=np.uint8), w, h)
+        if self.kind == ".gif":
+            self._gif.append(frame)
+        else:
+            ew, eh = self.encoded_size
+            if (ew, eh) != (w, h):
+                frame = fit_frame(frame, ew, eh)
+            try:
+                self._encoder.send(frame.tobytes())
+            except (OSError, RuntimeError, StopIteration) as e:
+                self.abort()
+                raise CaptureError(f"video encoder failed for {self.path}: {_reason(e)}") from None
+        self.frames += 1
+
+    def close(self) -> Path:
+        """Finish the file and give it its final name; returns that name."""
+        if self.closed:
+            return self.path
+        self.closed = True
+        try:
+            if self.kind == ".gif":
+                self._write_gif()
+            else:
+                self._encoder.close()  # ffmpeg writes its last fragment and exits
+                os.replace(self.partial, self.path)
+        except (OSError, RuntimeError, ValueError) as e:
+            raise CaptureError(f"cannot finish {self.path}: {_reason(e)}") from None
+        return self.path
+
+    def _write_gif(self) -> None:
+        import imageio.v3 as iio
+
+        frames = self._gif or [np.zeros((self.size[1], self.size[0], 3), np.uint8)]
+        self._gif = []
+        tmp = self.path.with_name(f".{self.path.name}.tmp.gif")
+        try:
+            iio.imwrite(tmp, np.stack(frames), extension=".gif",
+                        duration=1000.0 / self.fps, loop=0)
+            os.replace(tmp, self.path)
+        finally:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+    def abort(self) -> None:
+        """Stop without finishing; an MP4 keeps its playable `.partial.mp4`."""
+        if self.closed:
+            return
+        self.closed = True
+        self._gif = []
+        if self._encoder is not None:
+            with contextlib.suppress(Exception):
+                self._encoder.close()
+
+
+class PreviewFile:
+    """Keeps FOLDER/preview.png showing the newest frame, at most `rate` times a second, for
+    viewers outside the terminal (an image viewer that reloads, a browser)."""
+
+    def __init__(self, folder: Path, rate: float = 5.0):
+        self.path = Path(folder) / PREVIEW_NAME
+        self.period = 1.0 / rate
+        self._last = -1e9
+        self.failed = False
+
+    def offer(self, image: np.ndarray, force: bool = False) -> bool:
+        """Write if due; returns whether it wrote. Raises CaptureError once, then stays quiet
+        (a preview is a convenience: one report is enough)."""
+        now = time.monotonic()
+        if self.failed or (not force and now - self._last < self.period):
+            return False
+        self._last = now
+        try:
+            save_png(image, self.path, compress_level=1)  # fast: 5 Hz must stay cheap
+        except CaptureError:
+            self.failed = True
+            raise
+        return True

@@ -1,0 +1,121 @@
+"""`cloth-tui render SCENE -o OUT.png|OUT.mp4|OUT.gif`: simulate headless and draw.
+
+PNG: the last of `--frames` frames (default 1). MP4/GIF: every frame (default 90).
+SIGINT/SIGTERM finish the video properly (playable file, final name) and exit 130/143.
+"""
+
+from __future__ import annotations
+
+import re
+import signal
+import sys
+import threading
+from pathlib import Path
+
+from .capture import CaptureError, VideoWriter, save_png
+from .renderer import MAX_SIZE
+
+OUTPUT_SUFFIXES = (".png", ".mp4", ".gif")
+EXIT_BY_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
+
+
+def parse_size(text: str, usage_error) -> tuple[int, int]:
+    m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", str(text))
+    if not m:
+        raise usage_error(f"--size {text!r}: expected WIDTHxHEIGHT, e.g. 640x480")
+    w, h = int(m.group(1)), int(m.group(2))
+    if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
+        raise usage_error(f"--size {text!r}: each side must be 1..{MAX_SIZE} pixels")
+    return w, h
+
+
+class _Interrupt:
+    """Turns SIGINT/SIGTERM into a flag the frame loop checks, so the video is closed
+    properly instead of being cut mid-write."""
+
+    def __init__(self):
+        self.signum: int | None = None
+        self._old: dict = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for sig in EXIT_BY_SIGNAL:
+                self._old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, _frame):
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for sig, handler in self._old.items():
+            signal.signal(sig, handler)
+
+
+class _Progress:
+    def __init__(self, total: int, enabled: bool):
+        self.total, self.enabled = total, enabled
+
+    def show(self, done: int) -> None:
+        if not self.enabled:
+            return
+        width = 30
+        filled = int(width * done / max(1, self.total))
+        sys.stderr.write(f"\rrendering [{'#' * filled}{'.' * (width - filled)}] "
+                         f"{done}/{self.total}")
+        sys.stderr.flush()
+
+    def end(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def run_render(args, load_scene, check_writable, usage_error) -> int:
+    out = Path(args.output)
+    check_writable(out, OUTPUT_SUFFIXES)
+    size = parse_size(args.size, usage_error)
+    scene = load_scene(args.scene, args.overrides)
+    kind = out.suffix.lower()
+    frames = args.frames or (1 if kind == ".png" else 90)
+    fps = getattr(args, "fps", 30) or 30
+
+    from ..sim.runner import Simulation
+    from .renderer import Renderer
+
+    sim = Simulation(scene)
+    renderer = Renderer(scene, size)
+    progress = _Progress(frames, sys.stderr.isatty())
+    video = None
+    done = 0
+    try:
+        with _Interrupt() as interrupt:
+            if kind != ".png":
+                video = VideoWriter(out, fps, size)
+            for done in range(1, frames + 1):
+                if interrupt.signum is not None:
+                    done -= 1
+                    break
+                sim.advance_frame()
+                if video is not None:
+                    video.write(renderer.render(sim.snapshot()))
+                progress.show(done)
+            if kind == ".png" and interrupt.signum is None:
+                save_png(renderer.render(sim.snapshot()), out)
+            if video is not None:
+                video.close()
+        progress.end()
+    except CaptureError as e:
+        progress.end()
+        if video is not None:
+            video.abort()
+        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        return 1
+    finally:
+        renderer.close()
+    if interrupt.signum is not None:
+        what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
+        name = signal.Signals(interrupt.signum).name
+        print(f"cloth-tui: {name}: stopped after {done} of {frames} frames; {what}",
+              file=sys.stderr)
+        return EXIT_BY_SIGNAL[interrupt.signum]
+    return 0

@@ -1,0 +1,256 @@
+"""RenderService: the one long-lived render thread of the app.
+
+It is the only thread that ever touches VTK: it creates the Renderer (whose GL context is bound
+to it), draws the newest snapshot, and hands each picture to the UI (`on_frame`), to the
+preview file, to screenshots and to a running video. Every public method only records a wish
+and wakes the thread, so the UI thread never waits on rendering. `on_frame` and `on_event` are
+called on the render thread: the UI should forward them with `post_message`.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
+
+VIDEO_FPS = 30.0
+VIDEO_SUFFIX = ".mp4"
+
+
+@dataclass(frozen=True)
+class Frame:
+    image: np.ndarray  # (H, W, 3) uint8
+    frame: int         # simulation frame shown
+    render_ms: float
+    sim_stats: dict
+
+
+@dataclass(frozen=True)
+class CaptureEvent:
+    kind: str          # 'screenshot' | 'video_started' | 'video_saved' | 'error'
+    path: Path | None
+    message: str
+
+
+class RenderService:
+    def __init__(self, scene, size=(640, 480), captures_dir: Path = Path("captures"),
+                 on_frame: Callable[[Frame], None] | None = None,
+                 on_event: Callable[[CaptureEvent], None] | None = None,
+                 preview_file: bool = True):
+        self._scene = scene
+        self._size = (int(size[0]), int(size[1]))
+        self.captures_dir = Path(captures_dir)
+        self.on_frame = on_frame
+        self.on_event = on_event
+        self._want_preview = preview_file
+        self._lock = threading.Lock()
+        self._pending = None                   # newest snapshot not yet drawn
+        self._commands: deque[Callable[[], bool]] = deque()
+        self._wake = threading.Event()
+        self._stopping = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="cloth-render", daemon=True)
+        self._renderer = None                  # created on, and used only by, the thread
+        self._recording = False                # what the UI asked for, readable at once
+        self._video: VideoWriter | None = None
+        self._preview: PreviewFile | None = None
+        self._last_snapshot = None
+        self._last_image: np.ndarray | None = None
+        self.error: BaseException | None = None
+
+    # -- UI-thread API (non-blocking) -----------------------------------------------------
+    def start(self) -> "RenderService":
+        if not self._thread.is_alive():
+            self._thread.start()
+        return self
+
+    def stop(self, timeout: float = 1.0) -> None:
+        """Finish a running video, release GL and end the thread (waits up to `timeout`)."""
+        self._stopping.set()
+        self._wake.set()
+        if self._thread.is_alive() and self._thread is not threading.current_thread():
+            self._thread.join(timeout)
+
+    def submit(self, snapshot) -> None:
+        """Offer a snapshot; if several arrive before the thread is free, the newest wins."""
+        if snapshot is None:
+            return
+        with self._lock:
+            self._pending = snapshot
+        self._wake.set()
+
+    def update_scene(self, scene) -> None:
+        self._command(lambda: self._do(lambda r: r.update_scene(scene)))
+
+    def resize(self, w: int, h: int) -> None:
+        self._command(lambda: self._do(lambda r: r.resize(w, h)))
+
+    def orbit(self, d_azimuth: float, d_elevation: float) -> None:
+        self._command(lambda: self._do(lambda r: r.orbit(d_azimuth, d_elevation)))
+
+    def zoom(self, factor: float) -> None:
+        self._command(lambda: self._do(lambda r: r.zoom(factor)))
+
+    def reset_camera(self) -> None:
+        self._command(lambda: self._do(lambda r: r.reset_camera()))
+
+    def screenshot(self) -> None:
+        self._command(self._do_screenshot)
+
+    def start_recording(self) -> None:
+        if not self._recording:
+            self._recording = True
+            self._command(self._do_start_video)
+
+    def stop_recording(self) -> None:
+        if self._recording:
+            self._recording = False
+            self._command(self._do_stop_video)
+
+    def toggle_recording(self) -> None:
+        (self.stop_recording if self._recording else self.start_recording)()
+
+    @property
+    def recording(self) -> bool:
+        return self._recording
+
+    def pick(self, u: float, v: float) -> int | None:
+        """Particle under the image point (u, v in 0..1 from the top-left) in the last frame.
+        Pure NumPy on saved matrices: safe and cheap from any thread."""
+        r = self._renderer
+        return r.pick(u, v) if r is not None else None
+
+    def _command(self, fn: Callable[[], bool]) -> None:
+        self._commands.append(fn)
+        self._wake.set()
+
+    # -- on the render thread -------------------------------------------------------------
+    def _run(self) -> None:
+        try:
+            from .renderer import Renderer
+            self._renderer = Renderer(self._scene, self._size)
+        except Exception as e:  # no GL, say: the app keeps running without pictures
+            self.error = e
+            self._recording = False
+            self._emit("error", None, f"renderer unavailable: {type(e).__name__}: {e}")
+            return
+        self._start_preview()
+        try:
+            while not self._stopping.is_set():
+                self._wake.wait(0.5)
+                self._wake.clear()
+                self._step()
+            self._step()  # last commands, e.g. a stop_recording just before stop()
+        finally:
+            self._finish_video()
+            self._recording = False
+            self._renderer.close()
+
+    def _step(self) -> None:
+        redraw = False
+        while self._commands:
+            try:
+                redraw |= bool(self._commands.popleft()())
+            except Exception as e:
+                self._emit("error", None, f"{type(e).__name__}: {e}")
+        with self._lock:
+            snapshot, self._pending = self._pending, None
+        if snapshot is None and redraw:
+            snapshot = self._last_snapshot  # camera/appearance moved: draw the same frame
+        if snapshot is not None:
+            self._draw(snapshot)
+
+    def _do(self, action) -> bool:
+        action(self._renderer)
+        return True
+
+    def _draw(self, snapshot) -> None:
+        t0 = time.perf_counter()
+        try:
+            image = self._renderer.render(snapshot)
+        except Exception as e:
+            self._emit("error", None, f"render failed: {type(e).__name__}: {e}")
+            time.sleep(0.1)  # do not spin on a persistent failure
+            return
+        ms = (time.perf_counter() - t0) * 1e3
+        self._last_snapshot, self._last_image = snapshot, image
+        if self._video is not None:
+            try:
+                self._video.write(image)
+            except CaptureError as e:
+                self._video = None
+                self._recording = False
+                self._emit("error", None, str(e))
+        if self._preview is not None:
+            try:
+                self._preview.offer(image)
+            except CaptureError as e:
+                self._emit("error", None, f"preview file: {e}")
+        if self.on_frame is not None:
+            try:
+                self.on_frame(Frame(image, int(snapshot.frame), ms, dict(snapshot.stats)))
+            except Exception:
+                pass  # a UI callback bug must not stop the pictures
+
+    def _start_preview(self) -> None:
+        if not self._want_preview:
+            return
+        try:
+            self._preview = PreviewFile(ensure_folder(self.captures_dir))
+        except CaptureError as e:
+            self._emit("error", None, f"preview file disabled: {e}")
+
+    def _do_screenshot(self) -> bool:
+        if self._last_image is None:
+            self._emit("error", None, "screenshot: nothing has been drawn yet")
+            return False
+        try:
+            folder = ensure_folder(self.captures_dir)
+            path = save_png(self._last_image, timestamped(folder, "cloth", ".png"))
+        except CaptureError as e:
+            self._emit("error", None, str(e))
+            return False
+        self._emit("screenshot", path, f"saved {path}")
+        return False
+
+    def _do_start_video(self) -> bool:
+        if self._video is not None or not self._recording:
+            return False
+        try:
+            folder = ensure_folder(self.captures_dir)
+            self._video = VideoWriter(timestamped(folder, "cloth", VIDEO_SUFFIX), VIDEO_FPS,
+                                      self._renderer.size)
+        except CaptureError as e:
+            self._recording = False
+            self._emit("error", None, str(e))
+            return False
+        self._emit("video_started", self._video.path, f"recording to {self._video.path}")
+        return False
+
+    def _do_stop_video(self) -> bool:
+        self._finish_video()
+        return False
+
+    def _finish_video(self) -> None:
+        video, self._video = self._video, None
+        if video is None:
+            return
+        try:
+            path = video.close()
+        except CaptureError as e:
+            self._emit("error", video.partial, str(e))
+            return
+        self._emit("video_saved", path, f"saved {path} ({video.frames} frames)")
+
+    def _emit(self, kind: str, path: Path | None, message: str) -> None:
+        if self.on_event is not None:
+            try:
+                self.on_event(CaptureEvent(kind, path, message))
+            except Exception:
+                pass
