@@ -1,0 +1,152 @@
+"""Force-based springs solver: each integrator on a single spring, and on the cloth."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from cloth_tui.bench import accuracy as A
+from cloth_tui.scene import Scene
+from cloth_tui.sim import pipeline
+from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.springs import ORDERS, IntegrateSprings
+from cloth_tui.sim.state import ClothState
+
+K, M, L0, AMP = 40.0, 0.1, 1.0, 0.05   # ω = 20 rad/s, period ≈ 0.314 s
+
+
+def oscillator(integrator, damping=0.0):
+    """Particle 0 pinned at the origin, particle 1 (mass M) on a spring of stiffness K."""
+    model = SimpleNamespace(
+        num_particles=2, num_constraints=1, edges=np.array([[0, 1]], np.int64),
+        rest_length=np.array([L0]), mass=np.array([M, M]), inv_mass=np.array([0.0, 1.0 / M]),
+        pinned=np.array([0], np.int64))
+    b = SimpleNamespace(integrator=integrator, stiffness=K, spring_damping=damping, damping=0.0)
+    x = np.array([[0.0, 0, 0], [L0 + AMP, 0, 0]])
+    state = SimpleNamespace(x=x, x_prev=x.copy(), v=np.zeros((2, 3)), accel=np.zeros((2, 3)),
+                            t=0.0)
+    return IntegrateSprings(model, b, [], 0.0), state
+
+
+def run_oscillator(integrator, h, t_end):
+    eff, st = oscillator(integrator)
+    xs, es = [], []
+    for _ in range(int(round(t_end / h))):
+        eff.apply(st, h)
+        st.t += h
+        u = st.x[1, 0] - L0
+        xs.append(u)
+        es.append(0.5 * M * st.v[1, 0] ** 2 + 0.5 * K * u * u)
+    return np.array(xs), np.array(es), st
+
+
+def test_rk4_period_matches_two_pi_sqrt_m_over_k():
+    h = 1e-3
+    xs, _, _ = run_oscillator("rk4", h, 3.0)
+    t = (np.arange(len(xs)) + 1) * h
+    # upward zero crossings, linearly interpolated
+    i = np.nonzero((xs[:-1] < 0) & (xs[1:] >= 0))[0]
+    tc = t[i] - xs[i] * h / (xs[i + 1] - xs[i])
+    period = np.mean(np.diff(tc))
+    assert period == pytest.approx(2 * math.pi * math.sqrt(M / K), rel=1e-4)
+
+
+@pytest.mark.parametrize("integrator", list(ORDERS))
+def test_energy_drift_sign(integrator):
+    """Explicit Euler and midpoint gain energy, implicit Euler and RK4 lose it; symplectic
+    Euler and Verlet keep it bounded (oscillating, no drift)."""
+    e0 = 0.5 * K * AMP * AMP
+    _, es, _ = run_oscillator(integrator, 0.01, 6.0)  # hω = 0.2, ~19 periods
+    drift = (es[-200:].mean() - e0) / e0
+    if integrator == "explicit_euler":
+        assert drift > 1.0
+    elif integrator == "midpoint":
+        assert drift > 1e-4
+    elif integrator == "implicit_euler":
+        assert drift < -0.5
+    elif integrator == "rk4":
+        assert -1e-3 < drift < 0
+    else:  # symplectic: bounded, no secular drift
+        assert abs(drift) < 0.02
+        assert np.max(np.abs(es / e0 - 1)) < 0.25
+
+
+def test_implicit_euler_stable_where_explicit_blows_up():
+    cfg = A.StudyConfig(stiffness=2000.0, t_end=0.5)
+    dt = 1.0 / 240
+    ex = A.simulate(A.study_scene(cfg, "springs", "explicit_euler", dt),
+                    A.study_model(A.study_scene(cfg)), cfg.t_end)
+    im = A.simulate(A.study_scene(cfg, "springs", "implicit_euler", dt),
+                    A.study_model(A.study_scene(cfg)), cfg.t_end)
+    assert not ex.stable
+    assert im.stable and im.stretch < 0.2
+
+
+@pytest.mark.parametrize("integrator", ["verlet", "rk4", "symplectic_euler"])
+def test_free_fall(integrator):
+    s = Scene()
+    for k, v in (("cloth.pinned", "none"), ("cloth.resolution", 6), ("scene.floor", False),
+                 ("behavior.damping", 0.0), ("behavior.solver", "springs"),
+                 ("behavior.stiffness", 10.0), ("behavior.spring_damping", 0.0),
+                 ("behavior.integrator", integrator)):
+        s = s.with_value(k, v)
+    sim = Simulation(s)
+    y0 = sim.state.x[:, 1].copy()
+    for _ in range(30):
+        sim.advance_frame()
+    t = sim.state.t
+    tol = 1e-9 if integrator != "symplectic_euler" else 9.81 * t * sim.step.h
+    np.testing.assert_allclose(y0 - sim.state.x[:, 1], 0.5 * 9.81 * t * t, atol=tol)
+    np.testing.assert_allclose(sim.state.v[:, 1], -9.81 * t, atol=1e-9)
+
+
+@pytest.mark.parametrize("integrator", list(ORDERS))
+def test_pins_contacts_and_velocities_with_every_integrator(integrator):
+    """Corner-pinned sheet falling onto a near floor: pins stay at their anchors, nobody
+    goes through the floor, velocities stay finite and consistent."""
+    s = Scene()
+    for k, v in (("cloth.resolution", 8), ("scene.floor_height", 0.1),
+                 ("behavior.solver", "springs"), ("behavior.integrator", integrator),
+                 ("behavior.stiffness", 100.0), ("behavior.spring_damping", 0.01),
+                 ("behavior.substeps", 100)):
+        s = s.with_value(k, v)
+    sim = Simulation(s)
+    names = sim.step.names
+    assert names[0] == f"integrate_{integrator}" and names[-1] == "correct_velocities"
+    for _ in range(40):
+        sim.advance_frame()
+    m = sim.model
+    assert sim.recoveries == 0
+    np.testing.assert_array_equal(sim.state.x[m.pinned], m.rest_positions[m.pinned])
+    np.testing.assert_array_equal(sim.state.v[m.pinned], 0.0)
+    assert sim.state.x[:, 1].min() >= 0.1 + s.scene.thickness - 1e-12
+    assert sim.state.is_finite() and np.abs(sim.state.v).max() < 10
+
+
+def test_force_without_accumulate_is_adapted():
+    class OldGravity:
+        name = "old_gravity"
+
+        def apply(self, state, h):
+            state.accel[:, 1] -= 1.0
+
+    model = SimpleNamespace(
+        num_particles=2, num_constraints=1, edges=np.array([[0, 1]], np.int64),
+        rest_length=np.array([L0]), mass=np.array([M, M]), inv_mass=np.array([0.0, 1.0 / M]),
+        pinned=np.array([0], np.int64))
+    b = SimpleNamespace(integrator="rk4", stiffness=K, spring_damping=0.0, damping=0.0)
+    eff = IntegrateSprings(model, b, [OldGravity()], 0.01)
+    out = eff.accel(np.array([[0.0, 0, 0], [L0, 0, 0]]), np.zeros((2, 3)), 0.0, np.zeros((2, 3)))
+    np.testing.assert_allclose(out, [[0, 0, 0], [0, -1.0, 0]])
+
+
+def test_implicit_euler_cg_converges_within_cap():
+    s = A.study_scene(A.StudyConfig(stiffness=2000.0), "springs", "implicit_euler", 1 / 240)
+    model = A.study_model(s)
+    step = pipeline.build(s, model)
+    st = ClothState.from_model(model)
+    for _ in range(10):
+        step.substep(st)
+    from cloth_tui.sim.springs import CG_MAX_ITERATIONS
+    assert 0 < step.effects[0].cg_iterations < CG_MAX_ITERATIONS
