@@ -66,6 +66,7 @@ class Captured(Message):
 class ClothApp(App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
+    AUTO_FOCUS = None  # keys go to the app until the user picks a field
     COMMANDS = App.COMMANDS | {SceneCommands}
     BINDINGS = [
         Binding("q", "quit", "Quit", priority=True),
@@ -186,9 +187,10 @@ class ClothApp(App):
     def on_frame_ready(self, _: FrameReady) -> None:
         self._frame_posted = False
         frame = self._frame_box
-        if frame is None:
+        previews = self.query(Preview)
+        if frame is None or not previews:
             return
-        self.preview.show_image(frame.image)
+        previews.first().show_image(frame.image)
         self.readout.on_frame(frame.render_ms)
         if self.key_log and self.key_log[-1][0] != "shown":
             self.key_log.append(("shown", time.perf_counter()))
@@ -372,7 +374,8 @@ class ClothApp(App):
         paused = bool(self.sim is not None and self.sim.paused)
         text = self.readout.text(paused=paused, recording=recording,
                                  iterations=b.iterations, substeps=b.substeps)
-        self.query_one(StatusBar).show(text, self.readout.ms_history)
+        for bar in self.query(StatusBar):  # none while the app is closing
+            bar.show(text, self.readout.ms_history)
 
     def shutdown(self) -> None:
         """Stop both threads (the renderer finishes a running video); at most ~1.5 s."""

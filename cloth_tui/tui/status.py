@@ -103,9 +103,12 @@ class StatusBar(Horizontal):
     """
 
     def compose(self) -> ComposeResult:
-        yield Static("starting…", id="status-text")
-        yield Sparkline([0.0], id="ms-spark", summary_function=max)
+        self._text = Static("starting…", id="status-text")
+        self._spark = Sparkline([0.0], id="ms-spark", summary_function=max)
+        self._spark.tooltip = "ms per simulation step, last 60 frames"
+        yield self._text
+        yield self._spark
 
     def show(self, text: str, history) -> None:
-        self.query_one("#status-text", Static).update(text)
-        self.query_one(Sparkline).data = list(history)
+        self._text.update(text)
+        self._spark.data = list(history)
