@@ -98,7 +98,7 @@ def apply_black_hole(x, accel, inv_mass, cx, cy, cz, s, eps2):
 
 @njit(nogil=True, cache=True, fastmath=True)
 def apply_vortex(x, accel, inv_mass, cx, cz, s, eps2):
-    """Swirl about the vertical axis through (cx, cz), counter-clockwise seen from above:
+    """Swirl about the vertical axis through (cx, cz), turning +x toward +z (spin along −y):
     a = s·(−dz, 0, dx)/√(dx² + dz² + ε²); magnitude s far from the axis, 0 on it."""
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:

@@ -9,8 +9,8 @@ structural, shear and bending stencil: |di|, |dj| ≤ 1, or 2 apart in a row or 
 skipped: their distance is the constraints' business.
 
 Two detectors list the same pairs (tested): `find_pairs_naive`, O(N²), the reference; and
-`find_pairs_hash`, a sparse spatial hash of cell size D rebuilt every substep (counting sort
-into a table of ~2N buckets, then each particle looks at the 27 cells around it), O(N).
+`find_pairs_hash`, a sparse spatial hash of cell size 2D rebuilt every substep (counting
+sort into a table of ~2N buckets, then each particle looks at the 2×2×2 cells nearest it), O(N).
 `resolve_pairs` then projects the listed pairs once per substep (Gauss-Seidel).
 """
 
@@ -83,31 +83,27 @@ def build_hash(x, inv_cell, mask, cell_start, cell_particles, cells):
 
 @njit(nogil=True, cache=True, fastmath=True)
 def find_pairs_hash(x, n, dist, inv_cell, mask, cell_start, cell_particles, cells, pairs):
-    """The same pairs as find_pairs_naive (order aside), in O(N): build the hash, then look
-    only at the 27 cells around each particle (cell size ≥ dist, so no pair is missed)."""
+    """The same pairs as find_pairs_naive (order aside), in O(N): build the hash (cell size
+    1/inv_cell must be ≥ 2·dist), then look only at the 8 cells nearest each particle."""
     build_hash(x, inv_cell, mask, cell_start, cell_particles, cells)
     d2max = dist * dist
     count = 0
     cap = pairs.shape[0]
-    seen = np.empty(27, np.int64)  # buckets already scanned for this particle (hash clashes)
     for i in range(x.shape[0]):
-        n_seen = 0
-        for ox in range(-1, 2):
-            for oy in range(-1, 2):
-                for oz in range(-1, 2):
-                    b = _bucket(cells[i, 0] + ox, cells[i, 1] + oy, cells[i, 2] + oz, mask)
-                    dup = False
-                    for s in range(n_seen):
-                        if seen[s] == b:
-                            dup = True
-                            break
-                    if dup:
-                        continue
-                    seen[n_seen] = b
-                    n_seen += 1
+        # Cells are 2·dist wide, so a partner closer than dist lies in the 2×2×2 cells on
+        # the side of the particle's own cell it is nearer to: 8 lookups instead of 27.
+        x0 = cells[i, 0] - (1 if x[i, 0] * inv_cell - cells[i, 0] < 0.5 else 0)
+        y0 = cells[i, 1] - (1 if x[i, 1] * inv_cell - cells[i, 1] < 0.5 else 0)
+        z0 = cells[i, 2] - (1 if x[i, 2] * inv_cell - cells[i, 2] < 0.5 else 0)
+        for cx in range(x0, x0 + 2):
+            for cy in range(y0, y0 + 2):
+                for cz in range(z0, z0 + 2):
+                    b = _bucket(cx, cy, cz, mask)
                     for k in range(cell_start[b], cell_start[b + 1]):
                         j = cell_particles[k]
-                        if j <= i:
+                        # j > i lists each pair once; a bucket may also hold other cells that
+                        # hash alike: taking only this cell's particles finds each j once.
+                        if j <= i or cells[j, 0] != cx or cells[j, 1] != cy or cells[j, 2] != cz:
                             continue
                         dx = x[j, 0] - x[i, 0]
                         dy = x[j, 1] - x[i, 1]
@@ -157,13 +153,13 @@ class SelfCollision:
         self.n = model.n
         self.inv_mass = model.inv_mass
         self.distance = fraction * model.spacing
-        self.inv_cell = 1.0 / self.distance
+        self.inv_cell = 0.5 / self.distance  # cells 2·D wide (see find_pairs_hash)
         num = model.num_particles
         table = 1 << max(4, int(2 * num - 1).bit_length())  # power of two ≥ 2N
         self.mask = table - 1
-        self.cell_start = np.zeros(table + 1, np.int64)
-        self.cell_particles = np.zeros(num, np.int64)
-        self.cells = np.zeros((num, 3), np.int64)
+        self.cell_start = np.zeros(table + 1, np.int32)  # int32: half the cache traffic
+        self.cell_particles = np.zeros(num, np.int32)
+        self.cells = np.zeros((num, 3), np.int32)
         self.pairs = np.zeros((4 * num, 2), np.int64)
         self.count = 0
 
