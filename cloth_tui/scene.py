@@ -131,6 +131,9 @@ class Behavior:
                            lo_open=True, hi=1e9)
     spring_damping: float = key(0.5, "springs: damping along each spring", unit="N·s/m",
                                 lo=0.0, hi=1e6)
+    tethers: bool = key(False, "long-range attachments: no particle may drift farther from its "
+                        "nearest pin than on the flat sheet, which keeps large sheets from "
+                        "over-stretching at few iterations")
     self_collision: str = key("off", "keep the sheet from passing through itself",
                               choices=("off", "naive", "hash"))
     max_speed: float = key(50.0, "particle speed limit (guards against tunnelling)",

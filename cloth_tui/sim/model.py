@@ -28,6 +28,8 @@ class ClothModel:
     family: np.ndarray          # (M,) int8: 0 structural, 1 shear, 2 bending
     color_offsets: np.ndarray   # (C+1,) int64: constraints of colour c are [off[c], off[c+1])
     triangles: np.ndarray       # (T, 3) int64, two per grid cell, for rendering and wind
+    tether_pin: np.ndarray | None = None     # (N,) index into `pinned` of the nearest pin, −1 none
+    tether_length: np.ndarray | None = None  # (N,) m, rest distance to that pin
 
     @property
     def num_particles(self) -> int:
@@ -123,6 +125,31 @@ def grid_triangles(n: int) -> np.ndarray:
     return np.concatenate([t1, t2]).astype(np.int64)
 
 
+MAX_TETHER_PAIRS = 50_000_000  # particles × pins searched; beyond it, a sample of the pins
+
+
+def nearest_pins(rest: np.ndarray, pins: np.ndarray, seed: int) -> tuple:
+    """For each particle, the nearest pin on the flat rest sheet (the geodesic distance, since
+    the sheet starts flat) and that distance. With very many pins only a seeded sample is
+    searched, which keeps the result a valid (slightly longer) upper bound."""
+    if len(pins) * len(rest) > MAX_TETHER_PAIRS:
+        keep = max(1, MAX_TETHER_PAIRS // len(rest))
+        pins = np.sort(np.random.default_rng(seed).choice(pins, keep, replace=False))
+        sampled = True
+    else:
+        sampled = False
+    p = rest[pins]
+    nearest = np.empty(len(rest), np.int64)
+    dist = np.empty(len(rest))
+    chunk = max(1, 4_000_000 // max(1, len(pins)))
+    for lo in range(0, len(rest), chunk):
+        d2 = ((rest[lo:lo + chunk, None, :] - p[None, :, :]) ** 2).sum(axis=2)
+        k = d2.argmin(axis=1)
+        nearest[lo:lo + chunk] = k
+        dist[lo:lo + chunk] = np.sqrt(d2[np.arange(len(k)), k])
+    return nearest, dist, pins if sampled else None
+
+
 def build_model(cloth, behavior) -> ClothModel:
     """Build the model from the scene's [cloth] and [behavior] sections."""
     n, size = cloth.resolution, cloth.size
@@ -146,8 +173,15 @@ def build_model(cloth, behavior) -> ClothModel:
     mass = np.full(n * n, cloth.mass / (n * n))
     inv_mass = 1.0 / mass
     inv_mass[pins] = 0.0
+    tether_pin = tether_length = None
+    if behavior.tethers and len(pins):
+        near, tether_length, sample = nearest_pins(rest, pins, behavior.seed)
+        # index into `pins` (the model's pinned array), whichever subset was searched
+        tether_pin = near if sample is None else np.searchsorted(pins, sample[near])
+        tether_pin[pins] = -1
     for arr in (rest, mass, inv_mass, pins, edges, rest_length, family, offsets):
         arr.setflags(write=False)
     return ClothModel(n=n, size=size, rest_positions=rest, mass=mass, inv_mass=inv_mass,
                       pinned=pins, edges=np.ascontiguousarray(edges), rest_length=rest_length,
-                      family=family, color_offsets=offsets, triangles=grid_triangles(n))
+                      family=family, color_offsets=offsets, triangles=grid_triangles(n),
+                      tether_pin=tether_pin, tether_length=tether_length)

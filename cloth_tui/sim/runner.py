@@ -21,7 +21,8 @@ from .state import ClothState
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
                                      "height")} | \
-             {("behavior", k) for k in ("structural", "shear", "bending", "seed")}
+             {("behavior", k) for k in ("structural", "shear", "bending", "seed",
+                                        "tethers")}
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 
 

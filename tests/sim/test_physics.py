@@ -107,3 +107,20 @@ def test_diverging_step_is_recovered():
     sim.advance_frame()
     assert sim.state.is_finite()
     assert sim.recoveries >= 1
+
+
+def test_tethers_bound_distance_to_nearest_pin_and_cut_stretch():
+    plain = Simulation(scene(cloth__resolution=48, behavior__substeps=1))
+    tethered = Simulation(scene(cloth__resolution=48, behavior__substeps=1,
+                                behavior__tethers=True))
+    assert "enforce_tethers" in tethered.step.names and "enforce_tethers" not in plain.step.names
+    for _ in range(200):
+        plain.advance_frame()
+        tethered.advance_frame()
+    m, x = tethered.model, tethered.state.x
+    free = m.tether_pin >= 0
+    d = np.linalg.norm(x[free] - x[m.pinned[m.tether_pin[free]]], axis=1)
+    # The constraints run after the tethers, so a tether may be exceeded a little, never by
+    # more than two grid spacings (untethered, the sheet sags many spacings from its pins).
+    assert np.all(d <= m.tether_length[free] + 2 * m.spacing)
+    assert tethered.stats()["max_stretch"] < 0.5 * plain.stats()["max_stretch"]
