@@ -453,11 +453,14 @@ class CorrectVelocities:
 
 
 def assemble(scene, model, h: float, force_effects: list, contact_effects: list) -> list:
-    """integrate_<integrator> (forces and springs inside) → contacts → pins → velocities."""
+    """integrate_<integrator> (forces and springs inside) → contacts → (tethers) → pins →
+    velocities."""
     b = scene.behavior
     integrate = IntegrateSprings(model, b, force_effects, h)
     effects = [integrate]
     effects += contact_effects
+    if getattr(model, "tether_pin", None) is not None and hasattr(solvers, "EnforceTethers"):
+        effects.append(solvers.EnforceTethers(model))  # a position projection, like contacts
     if len(model.pinned):
         effects.append(solvers.ApplyPins(model))
     effects.append(CorrectVelocities(model, integrate, b.max_speed))
