@@ -1,0 +1,64 @@
+"""The whole frame as the app makes it: advance the simulation one frame, render the
+snapshot off-screen, encode the image as the terminal preview's half-block strips.
+
+Timed serially in one thread, so the sum is an upper bound: in the app the simulation and the
+renderer run on their own threads and overlap."""
+
+from __future__ import annotations
+
+import statistics
+import time
+
+# The preview of a 160×48 terminal: about 112 × 44 cells, 2 pixels per cell vertically.
+PREVIEW_CELLS = (112, 44)
+
+
+def bench_frames(quick: bool = False) -> list[dict]:
+    from ..render.renderer import Renderer
+    from ..scene import load
+    from ..tui.preview import StyleCache, image_to_strips
+
+    cols, rows = PREVIEW_CELLS
+    cases = [("default", {}), ("default 128×128", {"cloth.resolution": 128})]
+    frames = 30 if quick else 120
+    out = []
+    for label, overrides in cases:
+        from ..sim.runner import Simulation
+
+        scene = load("default")
+        for k, v in overrides.items():
+            scene = scene.with_value(k, v)
+        sim = Simulation(scene)
+        renderer = Renderer(scene, (cols, 2 * rows))
+        styles = StyleCache()
+        try:
+            for _ in range(5):  # warm-up: kernels, shaders, style cache
+                sim.advance_frame()
+                image_to_strips(renderer.render(sim.snapshot()), cols, rows, styles)
+            sim_t, render_t, encode_t = [], [], []
+            for _ in range(frames):
+                t0 = time.perf_counter()
+                sim.advance_frame()
+                snap = sim.snapshot()
+                t1 = time.perf_counter()
+                image = renderer.render(snap)
+                t2 = time.perf_counter()
+                image_to_strips(image, cols, rows, styles)
+                t3 = time.perf_counter()
+                sim_t.append(t1 - t0)
+                render_t.append(t2 - t1)
+                encode_t.append(t3 - t2)
+        finally:
+            renderer.close()
+        total = [a + b + c for a, b, c in zip(sim_t, render_t, encode_t)]
+        med = statistics.median(total)
+        out.append({"bench": "frame", "scene": label, "substeps": scene.behavior.substeps,
+                    "image": f"{cols}x{2 * rows}",
+                    "simulate_ms": 1e3 * statistics.median(sim_t),
+                    "render_ms": 1e3 * statistics.median(render_t),
+                    "encode_ms": 1e3 * statistics.median(encode_t),
+                    "total_ms": 1e3 * med,
+                    "total_p90_ms": 1e3 * sorted(total)[int(0.9 * len(total))],
+                    "fps_serial": 1.0 / med,
+                    "sim_frames_per_s": 1.0 / statistics.median(sim_t)})
+    return out
