@@ -7,9 +7,8 @@ posFriction    the particle's previous position carried along with the object's 
                this substep (x_prev + object displacement);
 the blend is used only when the previous position was outside the true surface, as in the
 original (otherwise the particle is simply projected out). F = 1 holds a particle where it
-touched (static friction); F = 0 lets it slide. A blended point that would end inside the
-skin is moved back onto the skin's tangent plane at posNoFriction: all shapes are convex, so
-that plane supports the skin and the result is never inside.
+touched (static friction); F = 0 lets it slide. A blended point that would still be inside
+the skin is projected out once more, so no kernel leaves a particle inside its skin.
 
 Moving objects follow the original's slow circle (ORBIT_RADIUS, ORBIT_PERIOD); the kernels
 take the object's displacement over the substep so its velocity drags the cloth via friction.
@@ -39,81 +38,31 @@ class ObjectPose:
 
 
 # -- kernels --------------------------------------------------------------------------------
+# Each shape has a distance function (signed distance d of a point q given relative to the
+# shape's centre, and the outward unit normal there) and a collide_* kernel that applies the
+# friction rule with it. A blended point that would end inside the skin is projected out
+# again (a large slide can cut a corner of a curved shape).
 @njit(nogil=True, cache=True, fastmath=True, inline="always")
-def _respond(x, x_prev, i, d, nx, ny, nz, was_outside, dx, dy, dz, friction, thickness):
-    """Move particle i (found at distance d < thickness along outward normal n) out."""
-    px = x[i, 0] + (thickness - d) * nx  # posNoFriction
-    py = x[i, 1] + (thickness - d) * ny
-    pz = x[i, 2] + (thickness - d) * nz
-    if was_outside and friction > 0.0:
-        qx = friction * (x_prev[i, 0] + dx) + (1.0 - friction) * px
-        qy = friction * (x_prev[i, 1] + dy) + (1.0 - friction) * py
-        qz = friction * (x_prev[i, 2] + dz) + (1.0 - friction) * pz
-        s = (qx - px) * nx + (qy - py) * ny + (qz - pz) * nz
-        if s < 0.0:  # behind the skin's tangent plane: back onto it
-            qx -= s * nx
-            qy -= s * ny
-            qz -= s * nz
-        px, py, pz = qx, qy, qz
-    x[i, 0] = px
-    x[i, 1] = py
-    x[i, 2] = pz
+def _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness):
+    """F·posFriction + (1−F)·posNoFriction for particle i at distance d along normal n."""
+    k = thickness - d
+    g = 1.0 - friction
+    return (friction * (x_prev[i, 0] + dx) + g * (x[i, 0] + k * nx),
+            friction * (x_prev[i, 1] + dy) + g * (x[i, 1] + k * ny),
+            friction * (x_prev[i, 2] + dz) + g * (x[i, 2] + k * nz))
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_floor(x, x_prev, inv_mass, height, friction, thickness):
-    """One-sided horizontal plane y = height: anything below is pushed up (the original)."""
-    for i in range(x.shape[0]):
-        d = x[i, 1] - height
-        if inv_mass[i] == 0.0 or d >= thickness:
-            continue
-        _respond(x, x_prev, i, d, 0.0, 1.0, 0.0, x_prev[i, 1] > height, 0.0, 0.0, 0.0,
-                 friction, thickness)
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_plane(x, x_prev, inv_mass, side, px, py, pz, nx, ny, nz, dx, dy, dz,
-                  friction, thickness):
-    """Two-sided infinite plane through p with unit normal n. side[i] = ±1 is the side the
-    particle started on; an infinite plane cannot be walked around, so it keeps it."""
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        sn = side[i]
-        d = sn * ((x[i, 0] - px) * nx + (x[i, 1] - py) * ny + (x[i, 2] - pz) * nz)
-        if d >= thickness:
-            continue
-        d_prev = sn * ((x_prev[i, 0] - px + dx) * nx + (x_prev[i, 1] - py + dy) * ny
-                       + (x_prev[i, 2] - pz + dz) * nz)
-        _respond(x, x_prev, i, d, sn * nx, sn * ny, sn * nz, d_prev > 0.0, dx, dy, dz,
-                 friction, thickness)
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_sphere(x, x_prev, inv_mass, cx, cy, cz, r, dx, dy, dz, friction, thickness):
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        ex = x[i, 0] - cx
-        ey = x[i, 1] - cy
-        ez = x[i, 2] - cz
-        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-        if dist - r >= thickness:
-            continue
-        if dist < 1e-12:  # at the centre: any direction is nearest; choose up
-            ex, ey, ez, dist = 0.0, 1.0, 0.0, 1.0
-        fx = x_prev[i, 0] + dx - cx  # previous position, relative to the moved centre
-        fy = x_prev[i, 1] + dy - cy
-        fz = x_prev[i, 2] + dz - cz
-        was_outside = fx * fx + fy * fy + fz * fz > r * r
-        _respond(x, x_prev, i, dist - r, ex / dist, ey / dist, ez / dist, was_outside,
-                 dx, dy, dz, friction, thickness)
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _sphere_distance(qx, qy, qz, r):
+    dist = math.sqrt(qx * qx + qy * qy + qz * qz)
+    if dist < 1e-12:  # at the centre: any direction is nearest; choose up
+        return -r, 0.0, 1.0, 0.0
+    return dist - r, qx / dist, qy / dist, qz / dist
 
 
 @njit(nogil=True, cache=True, fastmath=True, inline="always")
 def _box_distance(qx, qy, qz, hx, hy, hz):
-    """Signed distance and outward normal of an axis-aligned box (half sides h) at offset q
-    from its centre."""
+    """Axis-aligned box of half sides h."""
     ox = abs(qx) - hx
     oy = abs(qy) - hy
     oz = abs(qz) - hz
@@ -133,6 +82,100 @@ def _box_distance(qx, qy, qz, hx, hy, hz):
     return oz, 0.0, 0.0, sz
 
 
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
+    """Points within r of the segment ±half·a (a unit) through the centre."""
+    t = min(max(qx * ax + qy * ay + qz * az, -half), half)
+    ex = qx - t * ax
+    ey = qy - t * ay
+    ez = qz - t * az
+    dist = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if dist < 1e-12:  # on the axis: leave perpendicular to it
+        ex, ey, ez = (-ay, ax, 0.0) if abs(az) < 0.9 else (0.0, -az, ay)
+        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
+        return -r, ex / dist, ey / dist, ez / dist
+    return dist - r, ex / dist, ey / dist, ez / dist
+
+
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _plane_distance(qx, qy, qz, nx, ny, nz):
+    d = qx * nx + qy * ny + qz * nz
+    return d, nx, ny, nz
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_floor(x, x_prev, inv_mass, height, friction, thickness):
+    """One-sided horizontal plane y = height: anything below is pushed up (the original)."""
+    for i in range(x.shape[0]):
+        d = x[i, 1] - height
+        if inv_mass[i] == 0.0 or d >= thickness:
+            continue
+        if x_prev[i, 1] > height and friction > 0.0:
+            px, py, pz = _blend(x, x_prev, i, d, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, friction,
+                                thickness)
+            x[i, 0] = px
+            x[i, 2] = pz
+            x[i, 1] = max(py, height + thickness)
+        else:
+            x[i, 1] = height + thickness
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_plane(x, x_prev, inv_mass, side, px, py, pz, nx, ny, nz, dx, dy, dz,
+                  friction, thickness):
+    """Two-sided infinite plane through p with unit normal n. side[i] = ±1 is the side the
+    particle started on; an infinite plane cannot be walked around, so it keeps it."""
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        mx = side[i] * nx
+        my = side[i] * ny
+        mz = side[i] * nz
+        d, _, _, _ = _plane_distance(x[i, 0] - px, x[i, 1] - py, x[i, 2] - pz, mx, my, mz)
+        if d >= thickness:
+            continue
+        qx = x[i, 0] + (thickness - d) * mx
+        qy = x[i, 1] + (thickness - d) * my
+        qz = x[i, 2] + (thickness - d) * mz
+        d_prev, _, _, _ = _plane_distance(x_prev[i, 0] + dx - px, x_prev[i, 1] + dy - py,
+                                          x_prev[i, 2] + dz - pz, mx, my, mz)
+        if d_prev > 0.0 and friction > 0.0:
+            qx, qy, qz = _blend(x, x_prev, i, d, mx, my, mz, dx, dy, dz, friction, thickness)
+            dq, _, _, _ = _plane_distance(qx - px, qy - py, qz - pz, mx, my, mz)
+            if dq < thickness:
+                qx += (thickness - dq) * mx
+                qy += (thickness - dq) * my
+                qz += (thickness - dq) * mz
+        x[i, 0] = qx
+        x[i, 1] = qy
+        x[i, 2] = qz
+
+
+@njit(nogil=True, cache=True, fastmath=True)
+def collide_sphere(x, x_prev, inv_mass, cx, cy, cz, r, dx, dy, dz, friction, thickness):
+    for i in range(x.shape[0]):
+        if inv_mass[i] == 0.0:
+            continue
+        d, nx, ny, nz = _sphere_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, r)
+        if d >= thickness:
+            continue
+        qx = x[i, 0] + (thickness - d) * nx
+        qy = x[i, 1] + (thickness - d) * ny
+        qz = x[i, 2] + (thickness - d) * nz
+        d_prev, _, _, _ = _sphere_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
+                                           x_prev[i, 2] + dz - cz, r)
+        if d_prev > 0.0 and friction > 0.0:
+            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
+            dq, mx, my, mz = _sphere_distance(qx - cx, qy - cy, qz - cz, r)
+            if dq < thickness:
+                qx += (thickness - dq) * mx
+                qy += (thickness - dq) * my
+                qz += (thickness - dq) * mz
+        x[i, 0] = qx
+        x[i, 1] = qy
+        x[i, 2] = qz
+
+
 @njit(nogil=True, cache=True, fastmath=True)
 def collide_box(x, x_prev, inv_mass, cx, cy, cz, hx, hy, hz, dx, dy, dz, friction, thickness):
     for i in range(x.shape[0]):
@@ -141,37 +184,48 @@ def collide_box(x, x_prev, inv_mass, cx, cy, cz, hx, hy, hz, dx, dy, dz, frictio
         d, nx, ny, nz = _box_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, hx, hy, hz)
         if d >= thickness:
             continue
+        qx = x[i, 0] + (thickness - d) * nx
+        qy = x[i, 1] + (thickness - d) * ny
+        qz = x[i, 2] + (thickness - d) * nz
         d_prev, _, _, _ = _box_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
                                         x_prev[i, 2] + dz - cz, hx, hy, hz)
-        _respond(x, x_prev, i, d, nx, ny, nz, d_prev > 0.0, dx, dy, dz, friction, thickness)
-
-
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
-def _capsule_offset(qx, qy, qz, ax, ay, az, half):
-    """Offset from the nearest point of the capsule's axis segment to q."""
-    t = min(max(qx * ax + qy * ay + qz * az, -half), half)
-    return qx - t * ax, qy - t * ay, qz - t * az
+        if d_prev > 0.0 and friction > 0.0:
+            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
+            dq, mx, my, mz = _box_distance(qx - cx, qy - cy, qz - cz, hx, hy, hz)
+            if dq < thickness:
+                qx += (thickness - dq) * mx
+                qy += (thickness - dq) * my
+                qz += (thickness - dq) * mz
+        x[i, 0] = qx
+        x[i, 1] = qy
+        x[i, 2] = qz
 
 
 @njit(nogil=True, cache=True, fastmath=True)
 def collide_capsule(x, x_prev, inv_mass, cx, cy, cz, ax, ay, az, half, r, dx, dy, dz,
                     friction, thickness):
-    """Capsule: points within r of the segment c ± half·a (a unit)."""
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:
             continue
-        ex, ey, ez = _capsule_offset(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, ax, ay, az, half)
-        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-        if dist - r >= thickness:
+        d, nx, ny, nz = _capsule_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz,
+                                          ax, ay, az, half, r)
+        if d >= thickness:
             continue
-        if dist < 1e-12:  # on the axis: leave perpendicular to it
-            ex, ey, ez = (-ay, ax, 0.0) if abs(az) < 0.9 else (0.0, -az, ay)
-            dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-        fx, fy, fz = _capsule_offset(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
-                                     x_prev[i, 2] + dz - cz, ax, ay, az, half)
-        was_outside = fx * fx + fy * fy + fz * fz > r * r
-        _respond(x, x_prev, i, dist - r, ex / dist, ey / dist, ez / dist, was_outside,
-                 dx, dy, dz, friction, thickness)
+        qx = x[i, 0] + (thickness - d) * nx
+        qy = x[i, 1] + (thickness - d) * ny
+        qz = x[i, 2] + (thickness - d) * nz
+        d_prev, _, _, _ = _capsule_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
+                                            x_prev[i, 2] + dz - cz, ax, ay, az, half, r)
+        if d_prev > 0.0 and friction > 0.0:
+            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
+            dq, mx, my, mz = _capsule_distance(qx - cx, qy - cy, qz - cz, ax, ay, az, half, r)
+            if dq < thickness:
+                qx += (thickness - dq) * mx
+                qy += (thickness - dq) * my
+                qz += (thickness - dq) * mz
+        x[i, 0] = qx
+        x[i, 1] = qy
+        x[i, 2] = qz
 
 
 # -- effects --------------------------------------------------------------------------------
