@@ -105,7 +105,7 @@ class Renderer:
         prop.diffuse = 0.8
         prop.specular = 1.0
         prop.specular_color = tuple(hex_rgb(a.cloth_specular))
-        prop.specular_power = 30.0
+        prop.specular_power = 8.0  # ≈ three.js's Blinn-Phong shininess 30 as Phong
         prop.style = "wireframe" if a.wireframe else "surface"
         prop.line_width = 1.0
 

@@ -1,0 +1,43 @@
+"""Deterministic snapshots for render tests: an analytic drape instead of a simulation, so
+images (and golden baselines) depend on the renderer only, not on physics changes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from cloth_tui.scene import Scene
+from cloth_tui.sim.colliders import ObjectPose
+from cloth_tui.sim.model import build_model
+from cloth_tui.sim.runner import Snapshot
+
+
+def scene_with(**appearance) -> Scene:
+    scene = Scene()
+    for k, v in appearance.items():
+        scene = scene.with_value(f"appearance.{k}", v)
+    return scene
+
+
+def draped(scene: Scene, sag: float = 0.25, model=None, frame: int = 1,
+           objects: tuple = ()) -> Snapshot:
+    """The sheet sagging between its corners like the default scene after a second."""
+    model = model or build_model(scene.cloth, scene.behavior)
+    x = np.array(model.rest_positions, dtype=np.float64)
+    half = scene.cloth.size / 2
+    u, w = x[:, 0] / half, x[:, 2] / half
+    x[:, 1] -= sag * (1 - u * u * w * w) * (1 - 0.3 * (u * u + w * w))
+    return Snapshot(x, frame, frame / 60, {"frames": frame}, model, scene, tuple(objects))
+
+
+def with_positions(snap: Snapshot, positions) -> Snapshot:
+    return dataclasses.replace(snap, positions=np.asarray(positions))
+
+
+SPHERE = ObjectPose("sphere", (0.0, -0.25, 0.0), radius=0.25)
+
+
+def red_pixels(img: np.ndarray) -> int:
+    r, g, b = (img[..., k].astype(int) for k in range(3))
+    return int(((r > 110) & (r > 2 * g) & (r > 2 * b)).sum())
