@@ -133,8 +133,14 @@ class VideoWriter:
             self._encoder = imageio_ffmpeg.write_frames(
                 str(self.partial), self.encoded_size, fps=self.fps, codec="libx264",
                 quality=None, macro_block_size=1, ffmpeg_log_level="error",
-                output_params=["-crf", "20", "-preset", "veryfast", "-g", gop,
-                               "-movflags", "frag_keyframe+empty_moov+default_base_moof"])
+                output_params=[
+                    "-crf", "20", "-preset", "veryfast",
+                    # No lookahead/B-frames: frames leave x264 at once, not seconds later.
+                    "-tune", "zerolatency",
+                    "-g", gop,  # a keyframe, hence a fragment, every second
+                    "-movflags", "frag_keyframe+empty_moov+default_base_moof",
+                    # Write each fragment through to the file now, not when 32 KB pile up.
+                    "-flush_packets", "1"])
             self._encoder.send(None)  # starts ffmpeg
         except (OSError, RuntimeError) as e:
             raise CaptureError(f"cannot start the video encoder for {self.path}: "
