@@ -121,6 +121,9 @@ class ClothApp(App):
         self._grabbed: int | None = None
         self._zoom = 1.0
         self._stopped = False
+        self._crosshair_placed = False
+        log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
+        self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
         self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
 
     # -- layout ---------------------------------------------------------------------------
@@ -190,10 +193,36 @@ class ClothApp(App):
         previews = self.query(Preview)
         if frame is None or not previews:
             return
+        t0 = time.perf_counter()
         previews.first().show_image(frame.image)
         self.readout.on_frame(frame.render_ms)
+        if self._debug is not None:
+            self._debug.write(f"{t0:.4f} frame {frame.frame} render_ms {frame.render_ms:.2f} "
+                              f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
+        if not self._crosshair_placed and self.renderer is not None:
+            self._crosshair_placed = self._place_crosshair()
         if self.key_log and self.key_log[-1][0] != "shown":
             self.key_log.append(("shown", time.perf_counter()))
+
+    def _place_crosshair(self) -> bool:
+        """Put the crosshair on the particle nearest the middle of the sheet, by picking a
+        coarse grid of image points (pick is cheap). False if no particle is visible yet."""
+        n = self.scene.cloth.resolution
+        best, best_d = None, None
+        for i in range(1, 24):
+            for j in range(1, 24):
+                uv = (i / 24, j / 24)
+                p = self.renderer.pick(*uv)
+                if p is None:
+                    continue
+                d = abs(p // n - (n - 1) / 2) + abs(p % n - (n - 1) / 2)
+                if best_d is None or d < best_d:
+                    best, best_d = uv, d
+        if best is None:
+            return False
+        self.preview.crosshair = best
+        self.preview.move_crosshair(0, 0)
+        return True
 
     def on_sim_died(self, message: SimDied) -> None:
         err = message.error
@@ -281,6 +310,8 @@ class ClothApp(App):
 
     def _log_key(self, what: str) -> None:
         self.key_log.append((what, time.perf_counter()))
+        if self._debug is not None:
+            self._debug.write(f"{self.key_log[-1][1]:.4f} key {what}\n")
         del self.key_log[:-200]
 
     def action_pause(self) -> None:
@@ -311,6 +342,8 @@ class ClothApp(App):
         u, v = self.preview.target
         particle = self.renderer.pick(u, v)
         if particle is None:
+            where = "pointer" if self.preview.pointer is not None else "crosshair (move: h j k l)"
+            self.notify(f"No particle under the {where}", severity="warning", timeout=1.5)
             return
         self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
         self._log_key("bump")

@@ -19,6 +19,7 @@ from textual.strip import Strip
 from textual.widget import Widget
 
 HALF = "▀"
+SCALE = 2  # the renderer draws SCALE× the half-block pixels; cells show their average
 CROSSHAIR = "╋"
 _QUANT = 0xFC  # drop the two low bits of each channel: more shared styles, longer runs
 
@@ -45,6 +46,11 @@ class StyleCache:
 def resample(image: np.ndarray, cols: int, rows: int) -> np.ndarray:
     """Nearest-neighbour resample of an (H, W, 3) image to (2·rows, cols, 3)."""
     h, w = image.shape[:2]
+    if h % (2 * rows) == 0 and w % cols == 0 and (h > 2 * rows or w > cols):
+        # an exact multiple (the preview asks for SCALE× pixels): average, anti-aliased
+        ky, kx = h // (2 * rows), w // cols
+        boxes = image[..., :3].reshape(2 * rows, ky, cols, kx, 3).astype(np.uint16)
+        return (boxes.sum(axis=(1, 3)) // (ky * kx)).astype(np.uint8)
     ys = ((np.arange(2 * rows) + 0.5) * (h / (2 * rows))).astype(np.intp)
     xs = ((np.arange(cols) + 0.5) * (w / cols)).astype(np.intp)
     return image[ys[:, None], xs[None, :], :3]
@@ -170,7 +176,7 @@ class Preview(Widget):
     def on_resize(self, event: events.Resize) -> None:
         w, h = event.size.width, event.size.height
         if w > 0 and h > 0:
-            self.post_message(self.Resized(w, 2 * h))
+            self.post_message(self.Resized(SCALE * w, SCALE * 2 * h))
             self._rebuild()
 
     def _uv(self, event: events.MouseEvent) -> tuple[float, float]:

@@ -7,6 +7,7 @@ from textual.widgets import Collapsible, Input, Select, Switch
 from cloth_tui.scene import Scene, all_keys, load
 from cloth_tui.tui.app import BUMP_M, run_app
 from cloth_tui.tui.panels import all_panel_keys, widget_id
+from cloth_tui.tui.preview import SCALE
 
 from .conftest import SIZE, make_app, notifications, run, sim_scene, until
 
@@ -307,6 +308,6 @@ def test_preview_shows_half_blocks_of_the_frame(tmp_path):
             assert set(text) <= {"▀", "╋"} and len(text) == app.preview.size.width
             # an image of the requested size reached the preview
             w, h = app.renderer.size
-            assert (w, h) == (app.preview.size.width, 2 * app.preview.size.height)
+            assert (w, h) == (SCALE * app.preview.size.width, SCALE * 2 * app.preview.size.height)
             assert np.asarray(app.renderer.render()).shape == (h, w, 3)
     run(go())
