@@ -1,0 +1,122 @@
+import queue
+import threading
+
+import numpy as np
+import pytest
+
+from cloth_tui.render.service import CaptureEvent, Frame, RenderService
+
+from .helpers import draped, scene_with
+from .test_capture import count_frames
+
+
+class Collector:
+    def __init__(self):
+        self.frames: queue.Queue[Frame] = queue.Queue()
+        self.events: queue.Queue[CaptureEvent] = queue.Queue()
+        self.threads: set[str] = set()
+
+    def on_frame(self, frame):
+        self.threads.add(threading.current_thread().name)
+        self.frames.put(frame)
+
+    def on_event(self, event):
+        self.events.put(event)
+
+    def event(self, kind, timeout=20):
+        while True:
+            e = self.events.get(timeout=timeout)
+            if e.kind == kind:
+                return e
+            assert e.kind != "error", e.message
+
+
+@pytest.fixture
+def service(tmp_path):
+    got = Collector()
+    svc = RenderService(scene_with(), (96, 72), tmp_path / "captures", got.on_frame,
+                        got.on_event)
+    svc.got = got
+    svc.start()
+    yield svc
+    svc.stop(timeout=10)
+
+
+def test_renders_on_its_own_thread_and_saves_screenshots(service):
+    got = service.got
+    snap = draped(scene_with())
+    service.submit(snap)
+    frame = got.frames.get(timeout=30)
+    assert frame.image.shape == (72, 96, 3) and frame.frame == snap.frame
+    assert frame.render_ms > 0 and got.threads == {"cloth-render"}
+    service.screenshot()
+    shot = got.event("screenshot")
+    assert shot.path.exists() and shot.path.suffix == ".png"
+    assert (shot.path.parent / "preview.png").exists()
+
+
+def test_camera_and_size_commands_redraw(service):
+    got = service.got
+    service.submit(draped(scene_with()))
+    first = got.frames.get(timeout=30).image
+    service.orbit(30, 0)
+    assert not np.array_equal(got.frames.get(timeout=10).image, first)
+    service.resize(51, 33)
+    assert got.frames.get(timeout=10).image.shape == (33, 51, 3)
+
+
+def test_pick_from_the_ui_thread(service):
+    service.submit(draped(scene_with(), sag=0.02))
+    service.got.frames.get(timeout=30)
+    snap = draped(scene_with(), sag=0.02)
+    assert service.pick(0.5, 0.02) is None  # sky
+    assert service.pick(0.5, 0.3) in range(snap.model.num_particles)
+
+
+def test_recording_makes_a_video(service):
+    got = service.got
+    service.submit(draped(scene_with()))
+    got.frames.get(timeout=30)
+    service.toggle_recording()
+    assert service.recording
+    started = got.event("video_started")
+    for k in range(8):
+        service.submit(draped(scene_with(), sag=0.02 * k, frame=k + 2))
+        got.frames.get(timeout=10)
+    service.stop_recording()
+    assert not service.recording
+    saved = got.event("video_saved")
+    assert saved.path == started.path and count_frames(saved.path) >= 8
+
+
+def test_stop_finishes_a_running_video(tmp_path):
+    got = Collector()
+    svc = RenderService(scene_with(), (64, 48), tmp_path, got.on_frame, got.on_event,
+                        preview_file=False).start()
+    svc.start_recording()
+    for k in range(4):
+        svc.submit(draped(scene_with(), sag=0.05 * k, frame=k))
+        got.frames.get(timeout=30)
+    svc.stop(timeout=10)
+    saved = got.event("video_saved")
+    assert count_frames(saved.path) >= 1 and not (tmp_path / "preview.png").exists()
+
+
+def test_unwritable_captures_folder_reports_an_error(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    got = Collector()
+    svc = RenderService(scene_with(), (32, 24), blocker / "captures", got.on_frame,
+                        got.on_event).start()
+    try:
+        assert got.events.get(timeout=30).kind == "error"  # preview file disabled
+        svc.submit(draped(scene_with()))
+        got.frames.get(timeout=10)  # still renders
+        svc.screenshot()
+        error = got.events.get(timeout=10)
+        assert error.kind == "error" and "\n" not in error.message
+        svc.start_recording()
+        assert got.events.get(timeout=10).kind == "error"
+        assert not svc.recording
+    finally:
+        svc.stop(timeout=10)
