@@ -6,15 +6,16 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
 from . import accuracy
 
 METHOD_STYLE = {  # colour, marker
-    "explicit_euler": ("tab:red", "o"), "symplectic_euler": ("tab:orange", "s"),
+    "explicit_euler": ("tab:red", "o"), "symplectic_euler": ("tab:cyan", "s"),
     "verlet": ("tab:green", "^"), "midpoint": ("tab:olive", "v"), "rk4": ("tab:blue", "D"),
-    "implicit_euler": ("tab:purple", "P"), "pbd": ("tab:gray", "h"), "xpbd": ("tab:brown", "*"),
+    "implicit_euler": ("tab:purple", "P"), "pbd": ("tab:gray", "h"), "xpbd": ("tab:orange", "*"),
 }
 
 
@@ -144,8 +145,12 @@ def plot_work_precision(r: dict, path: Path) -> None:
     stable_t = [p["time"] for p in r["points"] if p["stable"]]
     for (method, label), pts in groups.items():
         color, marker = METHOD_STYLE.get(method, ("black", "o"))
-        its = [q["iterations"] for q in r["points"] if q["method"] == method]
-        dashed = bool(pts[0]["iterations"]) and pts[0]["iterations"] < max(its)
+        dashed = False
+        if pts[0]["iterations"]:  # pbd, xpbd: light to dark with the iteration count
+            its = sorted({q["iterations"] for q in r["points"] if q["method"] == method})
+            shade = 0.4 + 0.55 * its.index(pts[0]["iterations"]) / max(1, len(its) - 1)
+            color = plt.get_cmap("Greys" if method == "pbd" else "Oranges")(shade)
+            dashed = method == "pbd"
         ok = sorted((p for p in pts if p["stable"]), key=lambda p: -p["dt"])
         if ok:
             ax.plot([p["time"] for p in ok], [p["error"] for p in ok], marker=marker,
@@ -178,3 +183,7 @@ def plot_work_precision(r: dict, path: Path) -> None:
     with atomic_write(Path(path)) as fh:
         fig.savefig(fh, format="png")
     plt.close(fig)
+    # atomic_write's temp file is private (0600); a plot is for everyone to read.
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(path, 0o666 & ~umask)
