@@ -27,6 +27,7 @@ class Ground:
         disc = pv.Disc(inner=0.0, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=40, c_res=96)
         self.mesh = disc.triangulate()
         pts = np.asarray(self.mesh.points)
+        self.base_xz = pts[:, [0, 2]].copy()  # for a 1 m sheet; scaled with the sheet
         self.mesh.active_texture_coordinates = pts[:, [0, 2]] / 0.5  # one tile per 0.5 m
         self.actor = plotter.add_mesh(self.mesh, reset_camera=False, ambient=1.0,
                                       diffuse=0.75, specular=0.0)
@@ -34,6 +35,7 @@ class Ground:
         self.fog = pv.Disc(inner=FOG_NEAR, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=30,
                            c_res=96).triangulate()
         fog_pts = np.asarray(self.fog.points)
+        self.fog_base_xz = fog_pts[:, [0, 2]].copy()
         self.fog_alpha = fog_factor(np.hypot(fog_pts[:, 0], fog_pts[:, 2]), FOG_NEAR, FOG_FAR)
         self.fog.point_data["rgba"] = np.zeros((len(fog_pts), 4), np.uint8)
         self.fog_actor = plotter.add_mesh(self.fog, scalars="rgba", rgba=True, lighting=False,
@@ -43,6 +45,9 @@ class Ground:
         s, a = scene.scene, scene.appearance
         for actor in (self.actor, self.fog_actor):
             actor.SetVisibility(bool(s.floor))
+        scale = max(1.0, scene.cloth.size)  # a big sheet gets a wider ground and fog
+        self.mesh.points[:, [0, 2]] = self.base_xz * scale
+        self.fog.points[:, [0, 2]] = self.fog_base_xz * scale
         self.mesh.points[:, 1] = s.floor_height
         self.fog.points[:, 1] = s.floor_height + 0.002  # just above, never through the cloth
         for mesh in (self.mesh, self.fog):

@@ -15,7 +15,7 @@ import numpy as np
 
 from .geometry import (AMBIENT, LIGHT_COLOR, LIGHT_DIR, family_colors, grid_uv, hex_rgb,
                        pick_nearest, vertex_normals)
-from .props import Ground, Objects, Poles
+from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
 
@@ -149,11 +149,11 @@ class Renderer:
             self.lines.Modified()
 
     def _good_positions(self, snapshot) -> np.ndarray:
-        """The snapshot's positions if all finite; otherwise the last good ones (or the rest
+        """The snapshot's positions if all finite (and sane); otherwise the last good ones (or the rest
         shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
         x = np.asarray(snapshot.positions, dtype=np.float64)
         n = snapshot.model.num_particles
-        if x.shape == (n, 3) and np.isfinite(x).all():
+        if x.shape == (n, 3) and np.isfinite(x).all() and np.abs(x).max(initial=0) < 1e6:
             return x
         if self._positions is not None and len(self._positions) == n:
             return self._positions
@@ -189,7 +189,8 @@ class Renderer:
         cam.position = tuple(self.target + offset)
         cam.up = (0.0, 1.0, 0.0)
         cam.view_angle = VIEW_ANGLE
-        cam.clipping_range = (max(0.01, 0.02 * self.distance), self.distance + 40.0)
+        far = self.distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
+        cam.clipping_range = (max(0.01, 0.02 * self.distance), far)
 
     # -- drawing --------------------------------------------------------------------------
     def resize(self, w: int, h: int) -> None:
