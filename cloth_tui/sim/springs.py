@@ -109,6 +109,15 @@ def zero_rows(a, rows):
 
 
 @njit(nogil=True, cache=True, fastmath=True)
+def restore_rows(a, b, rows):
+    for k in range(rows.shape[0]):
+        i = rows[k]
+        a[i, 0] = b[i, 0]
+        a[i, 1] = b[i, 1]
+        a[i, 2] = b[i, 2]
+
+
+@njit(nogil=True, cache=True, fastmath=True)
 def spring_energy(x, edges, rest, k):
     e_sum = 0.0
     for e in range(edges.shape[0]):
@@ -391,6 +400,7 @@ class IntegrateSprings:
             effect.apply(state, h)
         state.x_prev[...] = x
         getattr(self, "_" + self.integrator)(x, v, t, h)
+        restore_rows(x, state.x_prev, self.model.pinned)  # pins move only to their anchors
         self.x_pred[...] = x
         state.accel.fill(0.0)
 
