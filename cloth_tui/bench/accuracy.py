@@ -99,7 +99,9 @@ class StudyConfig:
             pbd_iterations=(4, 16),
             stability_stiffness=(20.0, 200.0, 2000.0),
             stability_bisections=6,
+            stability_t_end=0.3,
             sag_t_end=2.0,
+            timing_budget=0.05,
         )
 
 
