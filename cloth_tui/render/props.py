@@ -13,7 +13,8 @@ FOG_NEAR, FOG_FAR = 2.0, 11.0  # m from the centre: the original's fog, scaled t
 POLE_COLOR = "#c8c8c8"
 OBJECT_COLOR = "#e8e3d8"
 OBJECT_OPACITY = 0.55
-PLANE_HALF = 1.25  # m: shown extent of an (infinite) collision plane
+PLANE_HALF = 0.9  # m: shown extent of an (infinite) collision plane, about the sheet's
+PLANE_OPACITY = 0.35  # a plane spans the view: fainter, so the cloth stays the subject
 
 
 class Ground:
@@ -136,7 +137,8 @@ class Objects:
                      tuple(map(float, pose.normal)))
             if k == len(self.actors):
                 mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-                actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=OBJECT_OPACITY,
+                opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
+                actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
                                               smooth_shading=pose.type != "box",
                                               specular=0.3, reset_camera=False)
                 actor.prop.backface_culling = False
