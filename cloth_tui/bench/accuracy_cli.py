@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
 from pathlib import Path
 
@@ -183,7 +182,3 @@ def plot_work_precision(r: dict, path: Path) -> None:
     with atomic_write(Path(path)) as fh:
         fig.savefig(fh, format="png")
     plt.close(fig)
-    # atomic_write's temp file is private (0600); a plot is for everyone to read.
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(path, 0o666 & ~umask)

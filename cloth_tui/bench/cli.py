@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 import sys
 
-from ..scene import Scene
 from . import breakdown as bd
 from .step_bench import bare_scene, bench_step, machine
 

@@ -23,6 +23,7 @@ MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fracti
                                      "height")} | \
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
                                         "tethers")}
+SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 
 
@@ -111,10 +112,16 @@ class Simulation:
             self.penetration = max(self.penetration, self.step.penetration(self.state.x))
 
     def _healthy(self) -> bool:
+        """Finite, no runaway speed, and (springs only) no spring at over twice its rest
+        length. Position-based solvers keep speeds clamped and may legitimately stretch a lot
+        at few iterations; a force-based integrator going unstable shows first as stretch,
+        since its speeds are clamped too."""
         if not self.state.is_finite():
             return False
-        limit = 4.0 * self.scene.behavior.max_speed
-        return float(np.max(np.abs(self.state.v), initial=0.0)) <= limit
+        b = self.scene.behavior
+        if float(np.max(np.abs(self.state.v), initial=0.0)) > 4.0 * b.max_speed:
+            return False
+        return b.solver != "springs" or stretch(self.model, self.state.x)[0] <= SPRING_DIVERGED
 
     def _recover(self) -> None:
         self.recoveries += 1
