@@ -155,8 +155,7 @@ class ClothApp(App):
             self.notify(f"renderer unavailable: {type(e).__name__}: {e}", severity="error",
                         timeout=10)
         self.sim.start()
-        if self.renderer is not None:
-            self.renderer.submit(self.sim.latest)
+        self._on_snapshot(self.sim.latest)  # first picture and stats, even when paused
         self.set_interval(0.2, self._refresh_status)
 
     # -- from other threads (never touch widgets here) ------------------------------------

@@ -8,7 +8,7 @@ import time
 from collections import deque
 
 from textual.app import ComposeResult
-from textual.containers import Horizontal
+from textual.containers import Horizontal, Vertical
 from textual.widgets import Sparkline, Static
 
 
@@ -40,7 +40,7 @@ class RateMeter:
 class Readout:
     """What the status line shows, updated from snapshots and frames."""
 
-    def __init__(self, history: int = 60):
+    def __init__(self, history: int = 80):
         self.sim_rate = RateMeter()
         self.view_rate = RateMeter()
         self.shown = 0
@@ -76,39 +76,47 @@ class Readout:
             return 0.0
         return e - self.energy0
 
-    def text(self, *, paused: bool, recording: bool, iterations: int, substeps: int) -> str:
+    def text(self, *, paused: bool, recording: bool, iterations: int,
+             substeps: int) -> tuple[str, str]:
+        """(state line, cost line): what the sim and view do, and what a frame costs."""
         s = self.stats
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
-        parts = [
-            "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶[/]",
-            f"sim {self.sim_rate.rate():4.0f} fps",
-            f"view {self.view_rate.rate():4.0f} fps",
-            f"[b]{self.step_ms:6.2f}[/] ms/step ({iterations}×{substeps} it×sub)",
+        parts = ["[b white on red] ● REC [/]"] if recording else []
+        parts += [
+            "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶ running[/]",
+            f"sim {self.sim_rate.rate():3.0f} fps",
+            f"view {self.view_rate.rate():3.0f} fps",
             f"{s.get('particles', 0)} particles",
-            f"stretch max {pct(s.get('max_stretch'))} mean {pct(s.get('mean_stretch'))}",
-            f"E {s.get('energy', 0.0):+.3f} J  ΔE {self.drift:+.3f} J",
+            f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
+            f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
         ]
         if s.get("recoveries"):
             parts.append(f"[red]{s['recoveries']} recoveries[/]")
-        if recording:
-            parts.append("[b red]● REC[/]")
-        return " · ".join(parts)
+        cost = (f"cost [b]{self.step_ms:6.2f}[/] ms/step at {iterations} iterations × "
+                f"{substeps} substeps · render {self.render_ms:5.1f} ms · ms/step:")
+        return " · ".join(parts), cost
 
 
-class StatusBar(Horizontal):
+class StatusBar(Vertical):
     DEFAULT_CSS = """
-    StatusBar { height: 1; }
+    StatusBar { height: 2; }
     StatusBar #status-text { width: 1fr; height: 1; }
-    StatusBar Sparkline { width: 24; height: 1; }
+    StatusBar #cost-row { height: 1; }
+    StatusBar #cost-text { width: auto; height: 1; }
+    StatusBar Sparkline { width: 1fr; height: 1; margin-left: 1; }
     """
 
     def compose(self) -> ComposeResult:
         self._text = Static("starting…", id="status-text")
+        self._cost = Static("", id="cost-text")
         self._spark = Sparkline([0.0], id="ms-spark", summary_function=max)
         self._spark.tooltip = "ms per simulation step, last 60 frames"
         yield self._text
-        yield self._spark
+        with Horizontal(id="cost-row"):
+            yield self._cost
+            yield self._spark
 
-    def show(self, text: str, history) -> None:
-        self._text.update(text)
+    def show(self, text: tuple[str, str], history) -> None:
+        self._text.update(text[0])
+        self._cost.update(text[1])
         self._spark.data = list(history)

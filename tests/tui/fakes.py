@@ -56,16 +56,22 @@ class FakeRenderService:
 
     def submit(self, snapshot):
         self.snapshot = snapshot
-        if self.on_frame is not None and not self.stopped:
-            self.on_frame(Frame(self.render(), snapshot.frame, 1.0, snapshot.stats))
+        self._draw()
+
+    def _draw(self):
+        if self.on_frame is not None and not self.stopped and self.snapshot is not None:
+            s = self.snapshot
+            self.on_frame(Frame(self.render(), s.frame, 1.0, s.stats))
 
     def update_scene(self, scene):
         self.calls.append(("update_scene", scene))
         self.scene = scene
+        self._draw()
 
     def resize(self, w, h):
         self.calls.append(("resize", w, h))
         self.size = (w, h)
+        self._draw()  # like the real service: the same snapshot again, at the new size
 
     def orbit(self, d_az, d_el):
         self.calls.append(("orbit", d_az, d_el))

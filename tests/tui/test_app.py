@@ -1,4 +1,6 @@
-"""Pilot tests: each key and each kind of panel control changes the simulation or the view."""
+"""Pilot tests: each key and each kind of panel control changes the simulation or the view.
+
+Starting the app costs ~2 s (about 300 widgets), so related checks share one session."""
 
 import numpy as np
 import pytest
@@ -10,45 +12,7 @@ from cloth_tui.tui.panels import all_panel_keys, widget_id
 from cloth_tui.tui.preview import SCALE
 
 from .conftest import SIZE, make_app, notifications, run, sim_scene, until
-
-
-def test_every_scene_key_has_exactly_one_control():
-    assert sorted(all_panel_keys()) == sorted(all_keys())
-
-    async def go(tmp_path):
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE):
-            for dotted in all_keys():
-                assert app.query_one("#" + widget_id(dotted)) is not None
-            assert len(app.query(Collapsible)) == 4
-    run(go(pytest.tmp_path_factory_dir))
-
-
-@pytest.fixture(autouse=True)
-def _tmp(tmp_path):
-    pytest.tmp_path_factory_dir = tmp_path
-
-
-def test_switch_changes_app_and_sim_scene(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            assert app.sim.paused  # commands run between frames even when paused
-            app.query_one("#" + widget_id("forces.wind"), Switch).value = True
-            await until(pilot, lambda: sim_scene(app).forces.wind, what="sim scene")
-            assert app.scene.forces.wind
-            assert app.renderer.scene.forces.wind
-    run(go())
-
-
-def test_select_changes_solver(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            app.query_one("#" + widget_id("behavior.solver"), Select).value = "xpbd"
-            await until(pilot, lambda: sim_scene(app).behavior.solver == "xpbd")
-            assert app.scene.behavior.solver == "xpbd"
-    run(go())
+from .fakes import CaptureEvent
 
 
 async def _type_into(pilot, app, dotted: str, text: str) -> Input:
@@ -60,46 +24,54 @@ async def _type_into(pilot, app, dotted: str, text: str) -> Input:
     return field
 
 
-def test_invalid_input_is_refused_and_value_restored(tmp_path):
+def test_panel_controls_change_the_scene(tmp_path):
+    assert sorted(all_panel_keys()) == sorted(all_keys())
+
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
+            # one control per scene key, in four groups
+            for dotted in all_keys():
+                assert app.query_one("#" + widget_id(dotted)) is not None
+            assert len(app.query(Collapsible)) == 4
+            assert app.sim.paused  # commands still run between frames while paused
+
+            # Switch → app scene, sim scene and renderer scene
+            app.query_one("#" + widget_id("forces.wind"), Switch).value = True
+            await until(pilot, lambda: sim_scene(app).forces.wind, what="sim scene")
+            assert app.scene.forces.wind and app.renderer.scene.forces.wind
+
+            # Select
+            app.query_one("#" + widget_id("behavior.solver"), Select).value = "xpbd"
+            await until(pilot, lambda: sim_scene(app).behavior.solver == "xpbd")
+
+            # invalid inputs are refused with a notification; the last good value returns
             field = await _type_into(pilot, app, "forces.gravity_strength", "-3")
-            assert app.scene.forces.gravity_strength == 9.81
-            assert field.value == "9.81"
+            assert app.scene.forces.gravity_strength == 9.81 and field.value == "9.81"
             assert any("forces.gravity_strength" in m for m in notifications(app))
             field = await _type_into(pilot, app, "appearance.cloth_color", "red")
             assert field.value == "#aa2929" and app.scene.appearance.cloth_color == "#aa2929"
-    run(go())
 
-
-def test_number_vector_and_colour_inputs_apply(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
+            # numbers, vectors, colours apply; resolution rebuilds the sheet
             await _type_into(pilot, app, "cloth.resolution", "10")
             await until(pilot, lambda: app.sim.sim.model.n == 10, what="rebuilt model")
             await _type_into(pilot, app, "forces.wind_direction", "[1, 0, 0]")
             assert app.scene.forces.wind_direction == [1.0, 0.0, 0.0]
             await _type_into(pilot, app, "appearance.fog_color", "#000000")
             assert app.renderer.scene.appearance.fog_color == "#000000"
+
             # leaving a field (blur) validates too
             field = app.query_one("#" + widget_id("behavior.iterations"), Input)
             field.focus()
             await pilot.pause(0.05)
             field.value = "9"
             app.set_focus(None)
-            await pilot.pause()
             await until(pilot, lambda: sim_scene(app).behavior.iterations == 9)
-    run(go())
 
-
-def test_keys_typed_into_a_field_stay_in_the_field(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
+            # keys typed into a field stay in the field; escape gives them back to the app
             field = app.query_one("#" + widget_id("appearance.cloth_texture"), Input)
             field.focus()
+            await pilot.pause(0.05)
             field.value = ""
             await pilot.press("w", "a", "q")
             assert field.value == "waq"
@@ -109,9 +81,9 @@ def test_keys_typed_into_a_field_stay_in_the_field(tmp_path):
     run(go())
 
 
-def test_w_and_a_toggle_appearance(tmp_path):
+def test_view_keys_save_and_hide(tmp_path):
     async def go():
-        app = make_app(tmp_path)
+        app = make_app(tmp_path, Scene().with_value("forces.wind", True))
         async with app.run_test(size=SIZE) as pilot:
             await pilot.press("w")
             assert app.scene.appearance.wireframe is False
@@ -119,12 +91,28 @@ def test_w_and_a_toggle_appearance(tmp_path):
             await until(pilot, lambda: not app.renderer.scene.appearance.wireframe)
             await pilot.press("a")
             assert app.scene.appearance.auto_rotate is True
+
+            await pilot.press("left_square_bracket", "full_stop", "plus", "minus", "0")
+            kinds = [c[0] for c in app.renderer.calls]
+            assert kinds.count("orbit") == 2 and kinds.count("zoom") == 2
+            assert "reset_camera" in kinds and "resize" in kinds
+
+            await pilot.press("s")
+            saved = list((tmp_path / "caps").glob("scene-*.toml"))
+            assert len(saved) == 1 and load(saved[0]) == app.scene
+            assert any(str(saved[0]) in m for m in notifications(app))
+
+            await pilot.press("c")
+            assert not app.controls.display
+            await pilot.press("c")
+            assert app.controls.display
     run(go())
 
 
-def test_space_pauses_and_r_restarts(tmp_path):
+def test_pause_restart_and_buttons(tmp_path):
     async def go():
-        app = make_app(tmp_path, start_paused=False)
+        app = make_app(tmp_path, Scene().with_value("behavior.iterations", 7),
+                       start_paused=False)
         async with app.run_test(size=SIZE) as pilot:
             await until(pilot, lambda: app.sim.latest.frame > 20, what="frames")
             await pilot.press("space")
@@ -136,16 +124,47 @@ def test_space_pauses_and_r_restarts(tmp_path):
             await pilot.press("r")
             await until(pilot, lambda: app.sim.latest.frame == 0, what="reset")
             await pilot.press("space")
-            await until(pilot, lambda: app.sim.latest.frame > 0, what="running again")
+            await until(pilot, lambda: app.sim.latest.frame > 5, what="running again")
+
+            await pilot.click("#defaults")
+            assert app.scene == Scene()
+            await until(pilot, lambda: sim_scene(app).behavior.iterations == 4)
+            await until(pilot, lambda: app.sim.latest.frame > 5)
+            await pilot.press("space")  # paused: the restarted sheet stays at frame 0
+            await pilot.click("#restart")
+            await until(pilot, lambda: app.sim.latest.frame == 0, what="restart")
     run(go())
 
 
-def test_arrow_bumps_particle_under_pointer_and_pageup_depth(tmp_path):
+def test_bumps_crosshair_drag_and_preview(tmp_path):
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 0)
             await pilot.pause(0.1)
             preview = app.preview
+
+            # the preview is half-blocks of an image of the requested size
+            strip = preview.render_line(preview.size.height // 2)
+            text = "".join(seg.text for seg in strip)
+            assert set(text) <= {"▀", "╋"} and len(text) == preview.size.width
+            w, h = app.renderer.size
+            assert (w, h) == (SCALE * preview.size.width, SCALE * 2 * preview.size.height)
+            assert np.asarray(app.renderer.render()).shape == (h, w, 3)
+
+            # without a mouse, keys act at the crosshair, which h j k l move
+            assert preview.pointer is None
+            start = preview.crosshair
+            await pilot.press("l", "l", "k")
+            u, v = preview.crosshair
+            assert u > start[0] and v < start[1]
+            await pilot.press("h", "h", "j")
+            target = app.renderer.pick(*preview.crosshair)
+            x0 = app.sim.latest.positions[target][0]
+            await pilot.press("right")
+            await until(pilot, lambda: app.sim.latest.positions[target][0] > x0)
+
+            # with the mouse over the preview, arrows bump the particle under it
             await pilot.hover("#preview", offset=(preview.size.width // 2, 10))
             target = app.renderer.pick(*preview.target)
             before = app.sim.latest.positions[target].copy()
@@ -154,44 +173,21 @@ def test_arrow_bumps_particle_under_pointer_and_pageup_depth(tmp_path):
             assert app.sim.latest.positions[target][1] == pytest.approx(before[1] + BUMP_M)
             await pilot.press("pageup")
             await until(pilot, lambda: app.sim.latest.positions[target][2] > before[2])
-    run(go())
 
-
-def test_crosshair_keys_move_the_bump_target(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            assert app.preview.pointer is None
-            start = app.preview.crosshair
-            await pilot.press("l", "l", "k")
-            u, v = app.preview.crosshair
-            assert u > start[0] and v < start[1]
-            await pilot.press("h", "h", "j")
-            target = app.renderer.pick(*app.preview.crosshair)
-            x0 = app.sim.latest.positions[target][0]
-            await pilot.press("right")
-            await until(pilot, lambda: app.sim.latest.positions[target][0] > x0)
-    run(go())
-
-
-def test_mouse_drag_pulls_a_particle(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            await pilot.pause(0.1)
-            w = app.preview.size.width
-            await pilot.mouse_down("#preview", offset=(w // 2, 14))
+            # dragging grabs a particle and pulls it along
+            wd = preview.size.width
+            await pilot.mouse_down("#preview", offset=(wd // 2, 14))
             grabbed = app._grabbed
             assert grabbed is not None
             y0 = app.sim.latest.positions[grabbed][1]
-            await pilot.hover("#preview", offset=(w // 2, 10))
+            await pilot.hover("#preview", offset=(wd // 2, 10))
             await until(pilot, lambda: app.sim.latest.positions[grabbed][1] > y0 + 0.01)
-            await pilot.mouse_up("#preview", offset=(w // 2, 10))
+            await pilot.mouse_up("#preview", offset=(wd // 2, 10))
             assert app._grabbed is None
     run(go())
 
 
-def test_captures_screenshot_video_and_failures(tmp_path):
+def test_captures_and_failures_are_reported(tmp_path):
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
@@ -201,55 +197,16 @@ def test_captures_screenshot_video_and_failures(tmp_path):
             assert app.renderer.recording
             await pilot.pause(0.3)
             assert "REC" in str(app.query_one("#status-text").render())
+            assert "ms/step" in str(app.query_one("#cost-text").render())
             await pilot.press("v")
             assert not app.renderer.recording
             await until(pilot, lambda: any("Video saved" in m for m in notifications(app)))
-            from .fakes import CaptureEvent
             app.renderer.on_event(CaptureEvent("error", None, "disk full"))
             await until(pilot, lambda: "disk full" in notifications(app))
+            app.sim.error = RuntimeError("boom")
+            app._on_snapshot(None)
+            await until(pilot, lambda: any("boom" in m for m in notifications(app)))
             assert app.is_running
-    run(go())
-
-
-def test_camera_keys_reach_the_renderer(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("left_square_bracket", "full_stop", "plus", "minus", "0")
-            kinds = [c[0] for c in app.renderer.calls]
-            assert kinds.count("orbit") == 2 and kinds.count("zoom") == 2
-            assert "reset_camera" in kinds
-            assert any(c[0] == "resize" for c in app.renderer.calls)
-    run(go())
-
-
-def test_s_saves_a_scene_that_loads_back(tmp_path):
-    async def go():
-        app = make_app(tmp_path, Scene().with_value("forces.wind", True))
-        async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("s")
-            saved = list((tmp_path / "caps").glob("scene-*.toml"))
-            assert len(saved) == 1
-            assert load(saved[0]) == app.scene
-            assert any(str(saved[0]) in m for m in notifications(app))
-    run(go())
-
-
-def test_c_hides_controls_and_buttons_work(tmp_path):
-    async def go():
-        app = make_app(tmp_path, Scene().with_value("behavior.iterations", 7),
-                       start_paused=False)
-        async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("c")
-            assert not app.controls.display
-            await pilot.press("c")
-            assert app.controls.display
-            await pilot.click("#defaults")
-            assert app.scene == Scene()
-            await until(pilot, lambda: sim_scene(app).behavior.iterations == 4)
-            await until(pilot, lambda: app.sim.latest.frame > 5)
-            await pilot.click("#restart")
-            await until(pilot, lambda: app.sim.latest.frame < 5, what="restart")
     run(go())
 
 
@@ -267,17 +224,7 @@ def test_open_builtin_scene_from_command_palette(tmp_path):
     run(go())
 
 
-def test_sim_death_is_reported(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            app.sim.error = RuntimeError("boom")
-            app._on_snapshot(None)
-            await until(pilot, lambda: any("boom" in m for m in notifications(app)))
-    run(go())
-
-
-def test_q_quits_and_stops_threads(tmp_path):
+def test_q_quits_finishing_video_and_stopping_threads(tmp_path):
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
@@ -295,19 +242,3 @@ def test_run_app_refuses_unusable_captures_dir(tmp_path, capsys):
     assert run_app(Scene(), blocker / "caps") == 2
     err = capsys.readouterr().err
     assert "captures" in err and len(err.strip().splitlines()) == 1
-
-
-def test_preview_shows_half_blocks_of_the_frame(tmp_path):
-    async def go():
-        app = make_app(tmp_path)
-        async with app.run_test(size=SIZE) as pilot:
-            await until(pilot, lambda: app.preview.frames_shown > 0)
-            await pilot.pause(0.1)
-            strip = app.preview.render_line(app.preview.size.height // 2)
-            text = "".join(seg.text for seg in strip)
-            assert set(text) <= {"▀", "╋"} and len(text) == app.preview.size.width
-            # an image of the requested size reached the preview
-            w, h = app.renderer.size
-            assert (w, h) == (SCALE * app.preview.size.width, SCALE * 2 * app.preview.size.height)
-            assert np.asarray(app.renderer.render()).shape == (h, w, 3)
-    run(go())

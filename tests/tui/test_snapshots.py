@@ -1,0 +1,70 @@
+"""SVG snapshots of the main screen and of each control group, with the simulation frozen
+(paused from the start, so every frame shows the initial sheet) and the rates fixed at 0.
+
+Baselines live in tests/tui/__snapshots__/. After an intended change of the look,
+regenerate them with
+
+    CLOTH_TUI_UPDATE_SNAPSHOTS=1 pytest tests/tui/test_snapshots.py
+
+and review the new SVGs (open them in a browser) before committing. A mismatch writes the
+actual screen next to the baseline as NAME.actual.svg.
+"""
+
+import os
+from pathlib import Path
+
+import pytest
+from textual.widgets import Collapsible
+
+from cloth_tui.tui.status import RateMeter
+
+from .conftest import SIZE, make_app, run, until
+
+SNAPSHOTS = Path(__file__).parent / "__snapshots__"
+UPDATE = os.environ.get("CLOTH_TUI_UPDATE_SNAPSHOTS") == "1"
+
+
+def check(name: str, svg: str) -> str | None:
+    path = SNAPSHOTS / f"{name}.svg"
+    actual = SNAPSHOTS / f"{name}.actual.svg"
+    if UPDATE or not path.exists():
+        SNAPSHOTS.mkdir(exist_ok=True)
+        path.write_text(svg, encoding="utf-8")
+        actual.unlink(missing_ok=True)
+        return None if UPDATE else f"{name}: no baseline; wrote {path}, check and commit it"
+    if path.read_text(encoding="utf-8") != svg:
+        actual.write_text(svg, encoding="utf-8")
+        return f"{name}: differs from {path}; see {actual}"
+    actual.unlink(missing_ok=True)
+    return None
+
+
+def test_screens_match_baselines(tmp_path, monkeypatch):
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 0.0)
+    problems = []
+
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 1 and app._crosshair_placed)
+            await pilot.pause(0.5)  # status refresh (5 Hz) and layout settle
+
+            async def shot(name):
+                app._refresh_status()
+                await pilot.pause(0.1)
+                problems.append(check(name, app.export_screenshot(title="cloth-tui")))
+
+            await shot("main")
+            groups = {c.id: c for c in app.query(Collapsible)}
+            for name in ("scene", "behavior", "appearance"):
+                for c in groups.values():
+                    c.collapsed = c.id != f"group-{name}"
+                await pilot.pause(0.1)
+                await shot(f"panel-{name}")
+            await pilot.press("c")
+            await shot("controls-hidden")
+
+    run(go())
+    problems = [p for p in problems if p]
+    if problems:
+        pytest.fail("\n".join(problems))
