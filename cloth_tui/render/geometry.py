@@ -34,6 +34,13 @@ def vertex_normals(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
     return out / length[:, None]
 
 
+def triangle_edges(triangles: np.ndarray) -> np.ndarray:
+    """Each edge of a triangle mesh once, (E, 2) int64."""
+    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    e.sort(axis=1)
+    return np.unique(e, axis=0)
+
+
 def grid_uv(n: int) -> np.ndarray:
     """Texture coordinates of the n×n particle grid: the whole image once across the sheet."""
     u = np.linspace(0.0, 1.0, n)
