@@ -223,7 +223,7 @@ class Renderer:
         else:
             self._update_cloth(positions)
         self._positions = positions
-        self.objects.update(snapshot.objects)
+        self.objects.update(getattr(snapshot, "objects", ()))
         if self._scene.appearance.auto_rotate:
             self.azimuth = (self.azimuth + AUTO_ROTATE_DEG) % 360.0
         self._apply_camera()

@@ -71,9 +71,12 @@ class RenderService:
         return self
 
     def stop(self, timeout: float = 1.0) -> None:
-        """Finish a running video, release GL and end the thread (waits up to `timeout`)."""
+        """Finish a running video, release GL and end the thread. Waits up to `timeout`,
+        or up to 10 s while a video is being finished."""
         self._stopping.set()
         self._wake.set()
+        if self._video is not None or self._recording:
+            timeout = max(timeout, 10.0)  # let ffmpeg write the last fragment and the name
         if self._thread.is_alive() and self._thread is not threading.current_thread():
             self._thread.join(timeout)
 
