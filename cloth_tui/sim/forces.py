@@ -213,6 +213,7 @@ class Wave:
     constraints puts the particles there. Runs before integration; it targets the end of the
     substep (t + h) because that is when the pins are applied."""
     name = "wave"
+    kinematic = True  # force-based solvers run `apply` once per substep, not per stage
 
     def __init__(self, model, amplitude: float, frequency: float):
         driven, _ = wave_rows(model.n)
