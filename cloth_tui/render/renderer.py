@@ -213,8 +213,10 @@ class Renderer:
             self.size = size
             self.plotter.window_size = size
 
-    def render(self, snapshot) -> np.ndarray:
-        """Draw one snapshot; returns the picture as (H, W, 3) uint8."""
+    def render(self, snapshot, auto_rotate_deg: float | None = None) -> np.ndarray:
+        """Draw one snapshot; returns the picture as (H, W, 3) uint8. With auto_rotate on,
+        the camera first turns `auto_rotate_deg` (default: one frame's worth at 30 fps; the
+        app passes an amount by wall-clock time, as its render rate varies)."""
         if snapshot.scene is not self._scene:
             self.update_scene(snapshot.scene)
         positions = self._good_positions(snapshot)
@@ -225,7 +227,8 @@ class Renderer:
         self._positions = positions
         self.objects.update(getattr(snapshot, "objects", ()))
         if self._scene.appearance.auto_rotate:
-            self.azimuth = (self.azimuth + AUTO_ROTATE_DEG) % 360.0
+            step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
+            self.azimuth = (self.azimuth + step) % 360.0
         self._apply_camera()
         image = self._grab()
         w, h = self.size

@@ -21,6 +21,9 @@ import numpy as np
 from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
 
 VIDEO_FPS = 30.0
+MAX_REPEAT = 5              # frames a slow render may be repeated to keep the video in time
+IDLE_ORBIT_PERIOD = 1 / 30  # s between redraws when auto-rotating with no new snapshots
+AUTO_ROTATE_DEG_PER_S = 12.0  # one turn in 30 s, three.js OrbitControls' autoRotateSpeed 2
 VIDEO_SUFFIX = ".mp4"
 
 
@@ -59,6 +62,8 @@ class RenderService:
         self._renderer = None                  # created on, and used only by, the thread
         self._recording = False                # what the UI asked for, readable at once
         self._video: VideoWriter | None = None
+        self._video_t0: float | None = None    # wall time of the video's first frame
+        self._last_draw: float | None = None
         self._preview: PreviewFile | None = None
         self._last_snapshot = None
         self._last_image: np.ndarray | None = None
@@ -146,17 +151,19 @@ class RenderService:
         self._start_preview()
         try:
             while not self._stopping.is_set():
-                self._wake.wait(0.5)
+                spinning = self._renderer._scene.appearance.auto_rotate
+                woke = self._wake.wait(IDLE_ORBIT_PERIOD if spinning else 0.5)
                 self._wake.clear()
-                self._step()
+                # Auto-rotate keeps orbiting while the simulation is paused, as the original.
+                self._step(idle_redraw=spinning and not woke)
             self._step()  # last commands, e.g. a stop_recording just before stop()
         finally:
             self._finish_video()
             self._recording = False
             self._renderer.close()
 
-    def _step(self) -> None:
-        redraw = False
+    def _step(self, idle_redraw: bool = False) -> None:
+        redraw = idle_redraw
         while self._commands:
             try:
                 redraw |= bool(self._commands.popleft()())
@@ -175,8 +182,11 @@ class RenderService:
 
     def _draw(self, snapshot) -> None:
         t0 = time.perf_counter()
+        # Auto-rotate by wall-clock time (12°/s), however often frames are drawn.
+        last, self._last_draw = self._last_draw, time.monotonic()
+        turn = AUTO_ROTATE_DEG_PER_S * min(self._last_draw - last, 0.2) if last else 0.0
         try:
-            image = self._renderer.render(snapshot)
+            image = self._renderer.render(snapshot, auto_rotate_deg=turn)
         except Exception as e:
             self._emit("error", None, f"render failed: {type(e).__name__}: {e}")
             time.sleep(0.1)  # do not spin on a persistent failure
@@ -185,7 +195,7 @@ class RenderService:
         self._last_snapshot, self._last_image = snapshot, image
         if self._video is not None:
             try:
-                self._video.write(image)
+                self._record(image)
             except CaptureError as e:
                 self._video = None
                 self._recording = False
@@ -200,6 +210,20 @@ class RenderService:
                 self.on_frame(Frame(image, int(snapshot.frame), ms, dict(snapshot.stats)))
             except Exception:
                 pass  # a UI callback bug must not stop the pictures
+
+    def _record(self, image: np.ndarray) -> None:
+        """Keep the video in real time at VIDEO_FPS whatever the render rate: skip frames
+        when drawing faster, repeat the picture when slower (a few at most, so a long stall
+        does not become seconds of a still image)."""
+        now = time.monotonic()
+        if self._video_t0 is None:
+            self._video_t0 = now
+        due = int((now - self._video_t0) * VIDEO_FPS) + 1 - self._video.frames
+        if due > MAX_REPEAT:
+            self._video_t0 += (due - MAX_REPEAT) / VIDEO_FPS
+            due = MAX_REPEAT
+        for _ in range(due):
+            self._video.write(image)
 
     def _start_preview(self) -> None:
         if not self._want_preview:
@@ -227,6 +251,7 @@ class RenderService:
             return False
         try:
             folder = ensure_folder(self.captures_dir)
+            self._video_t0 = None
             self._video = VideoWriter(timestamped(folder, "cloth", VIDEO_SUFFIX), VIDEO_FPS,
                                       self._renderer.size)
         except CaptureError as e:

@@ -1,5 +1,6 @@
 import queue
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -80,13 +81,26 @@ def test_recording_makes_a_video(service):
     service.toggle_recording()
     assert service.recording
     started = got.event("video_started")
+    t0 = time.monotonic()
     for k in range(8):
         service.submit(draped(scene_with(), sag=0.02 * k, frame=k + 2))
         got.frames.get(timeout=10)
+        time.sleep(0.05)
+    elapsed = time.monotonic() - t0
     service.stop_recording()
     assert not service.recording
     saved = got.event("video_saved")
-    assert saved.path == started.path and count_frames(saved.path) >= 8
+    # Real time at 30 fps: frames are repeated or skipped to match the wall clock.
+    assert saved.path == started.path
+    assert 0.5 * elapsed * 30 <= count_frames(saved.path) <= elapsed * 30 + 6
+
+
+def test_auto_rotate_keeps_turning_while_paused(service):
+    service.submit(draped(scene_with(auto_rotate=True)))
+    first = service.got.frames.get(timeout=30)
+    later = service.got.frames.get(timeout=5)  # no new snapshot, yet a new picture
+    assert later.frame == first.frame
+    assert not np.array_equal(later.image, first.image)
 
 
 def test_stop_finishes_a_running_video(tmp_path):
