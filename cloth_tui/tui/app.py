@@ -414,10 +414,14 @@ class ClothApp(App):
         if self._stopped:
             return
         self._stopped = True
+        t0 = time.perf_counter()
         if self.sim is not None:
             self.sim.stop(timeout=0.5)
         if self.renderer is not None:
             self.renderer.stop(timeout=1.0)
+        if self._debug is not None:
+            self._debug.write(f"{time.perf_counter():.4f} shutdown "
+                              f"{1e3 * (time.perf_counter() - t0):.0f} ms\n")
 
     def on_unmount(self) -> None:
         self.shutdown()
