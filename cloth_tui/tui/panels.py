@@ -15,7 +15,7 @@ from textual.message import Message
 from textual.widget import Widget
 from textual.widgets import Button, Collapsible, Input, Label, Select, Switch
 
-from ..scene import SECTION_TYPES, SECTIONS, Scene, key_spec
+from ..scene import SECTION_TYPES, Scene, key_spec
 
 TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")

@@ -1,0 +1,26 @@
+"""Messages the simulation and render threads post to the app (thread-safe `post_message`).
+Frames and snapshots travel through one-slot mailboxes on the app; these only wake it."""
+
+from typing import Any
+
+from textual.message import Message
+
+
+class SimUpdated(Message):
+    """A new snapshot waits in the app's mailbox."""
+
+
+class FrameReady(Message):
+    """A new rendered frame waits in the app's mailbox."""
+
+
+class SimDied(Message):
+    def __init__(self, error: BaseException | None) -> None:
+        super().__init__()
+        self.error = error
+
+
+class Captured(Message):
+    def __init__(self, event: Any) -> None:
+        super().__init__()
+        self.event = event
