@@ -10,6 +10,9 @@ LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0]
 
 LIGHT_COLOR = np.array([0xdf, 0xeb, 0xff]) / 255.0
 AMBIENT = 0.4  # the original's 0x666666 ambient light
+SUN_INTENSITY = 0.9
+HEADLIGHT_INTENSITY = 0.3  # weak: only so vertical faces are never black
+GROUND_DIFFUSE = 0.75
 
 
 def hex_rgb(text: str) -> np.ndarray:
@@ -50,6 +53,15 @@ def grid_uv(n: int) -> np.ndarray:
 
 def fog_factor(r: np.ndarray, near: float, far: float) -> np.ndarray:
     return np.clip((r - near) / (far - near), 0.0, 1.0) ** 0.8
+
+
+def flat_ground_light(color: np.ndarray, elevation_deg: float) -> np.ndarray:
+    """What VTK's lighting makes of a level, upward-facing surface of this colour: ambient,
+    plus diffuse (0.75) from the sun (intensity 0.9) and the headlight (0.3), whose angle to
+    the ground is the camera's elevation. Matches the lit render to a level or two."""
+    sun = SUN_INTENSITY * LIGHT_COLOR * max(0.0, LIGHT_DIR[1])
+    head = HEADLIGHT_INTENSITY * abs(np.sin(np.radians(elevation_deg)))
+    return color * (AMBIENT + GROUND_DIFFUSE * (sun + head))
 
 
 def family_colors(family: np.ndarray) -> np.ndarray:

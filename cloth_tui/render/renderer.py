@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-from .geometry import (AMBIENT, LIGHT_COLOR, LIGHT_DIR, family_colors, grid_uv, hex_rgb,
+from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
+                       family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals)
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .textures import load_texture_image
@@ -43,11 +44,13 @@ class Renderer:
         # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen).
         self.plotter.ren_win.SetMultiSamples(0)
         light = pv.Light(position=tuple(LIGHT_DIR * 10.0), focal_point=(0, 0, 0),
-                         color=tuple(LIGHT_COLOR), intensity=0.9, light_type="scene light")
+                         color=tuple(LIGHT_COLOR), intensity=SUN_INTENSITY,
+                         light_type="scene light")
         light.positional = False
         self.plotter.add_light(light)
         # A weak light from the camera so vertical faces (poles, hanging cloth) are not black.
-        self.plotter.add_light(pv.Light(light_type="headlight", intensity=0.3))
+        self.plotter.add_light(pv.Light(light_type="headlight",
+                                                 intensity=HEADLIGHT_INTENSITY))
         self.ground = Ground(pv, self.plotter)
         self.poles = Poles(pv, self.plotter)
         self.objects = Objects(pv, self.plotter)
@@ -205,6 +208,7 @@ class Renderer:
         cam.view_angle = VIEW_ANGLE
         far = self.distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
         cam.clipping_range = (max(0.01, 0.02 * self.distance), far)
+        self.ground.shade(self.elevation)
 
     # -- drawing --------------------------------------------------------------------------
     def resize(self, w: int, h: int) -> None:
