@@ -198,8 +198,13 @@ class ClothApp(App):
         self._grabbed = None
 
     def on_setting_field_edited(self, message: SettingField.Edited) -> None:
-        if not self.set_value(message.dotted, message.value):
-            message.field.show(self.scene.get(message.dotted))
+        dotted = message.dotted
+        if message.value != self.scene.get(dotted) and not self.set_value(dotted, message.value):
+            message.field.show(self.scene.get(dotted))
+            return  # refused: the field keeps focus for another try
+        message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
+        if message.submitted:
+            self.set_focus(None)  # Enter: the keys go back to the app
 
     def on_controls_command(self, message: Controls.Command) -> None:
         if message.command == "restart":

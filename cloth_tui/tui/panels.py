@@ -89,9 +89,11 @@ class SettingField(Horizontal):
     class Edited(Message):
         """The user asks for `dotted` = `value` (not yet validated)."""
 
-        def __init__(self, field: "SettingField", dotted: str, value: Any) -> None:
+        def __init__(self, field: "SettingField", dotted: str, value: Any,
+                     submitted: bool = False) -> None:
             super().__init__()
             self.field, self.dotted, self.value = field, dotted, value
+            self.submitted = submitted  # Enter in an Input (rather than leaving it)
 
     def __init__(self, dotted: str, value: Any) -> None:
         super().__init__(id=widget_id(dotted) + "-row", classes="setting")
@@ -151,15 +153,16 @@ class SettingField(Horizontal):
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         event.stop()
-        self._commit(event.value)
+        self._commit(event.value, submitted=True)
 
     def on_input_blurred(self, event: Input.Blurred) -> None:
         event.stop()
         self._commit(event.value)
 
-    def _commit(self, text: str) -> None:
-        if text.strip() != format_value(self._value):
-            self.post_message(self.Edited(self, self.dotted, parse_text(self.dotted, text)))
+    def _commit(self, text: str, submitted: bool = False) -> None:
+        if text.strip() != format_value(self._value) or submitted:
+            self.post_message(self.Edited(self, self.dotted, parse_text(self.dotted, text),
+                                          submitted))
 
 
 class Controls(VerticalScroll):

@@ -48,12 +48,14 @@ def test_panel_controls_change_the_scene(tmp_path):
             # invalid inputs are refused with a notification; the last good value returns
             field = await _type_into(pilot, app, "forces.gravity_strength", "-3")
             assert app.scene.forces.gravity_strength == 9.81 and field.value == "9.81"
+            assert app.focused is field  # refused: still there for another try
             assert any("forces.gravity_strength" in m for m in notifications(app))
             field = await _type_into(pilot, app, "appearance.cloth_color", "red")
             assert field.value == "#aa2929" and app.scene.appearance.cloth_color == "#aa2929"
 
             # numbers, vectors, colours apply; resolution rebuilds the sheet
-            await _type_into(pilot, app, "cloth.resolution", "10")
+            field = await _type_into(pilot, app, "cloth.resolution", "10")
+            assert app.focused is None  # accepted with Enter: keys go back to the app
             await until(pilot, lambda: app.sim.sim.model.n == 10, what="rebuilt model")
             await _type_into(pilot, app, "forces.wind_direction", "[1, 0, 0]")
             assert app.scene.forces.wind_direction == [1.0, 0.0, 0.0]
