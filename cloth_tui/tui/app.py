@@ -231,6 +231,7 @@ class ClothApp(App):
             if restart:
                 self.sim.submit(lambda sim: sim.reset())
                 self.readout.restart()
+                self._crosshair_placed = False  # back onto the (new) sheet
         if self.renderer is not None:
             self.renderer.update_scene(new)
         self.controls.show_scene(new)
