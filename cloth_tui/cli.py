@@ -95,7 +95,7 @@ def cmd_scenes(args) -> int:
     for name, path in builtin_scenes().items():
         first = path.read_text(encoding="utf-8").splitlines()[0:1]
         doc = first[0].lstrip("# ").strip() if first and first[0].startswith("#") else ""
-        print(f"{name:<18} {doc}")
+        print(f"{name:<20} {doc}")
     return 0
 
 

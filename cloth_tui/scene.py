@@ -179,10 +179,16 @@ class Scene:
 
     def with_value(self, dotted: str, value: Any) -> "Scene":
         """A validated copy with one key changed; raises SceneError and leaves self untouched."""
-        section, name = _split_key(dotted)
+        return self.with_values({dotted: value})
+
+    def with_values(self, values: dict[str, Any]) -> "Scene":
+        """A copy with several keys changed, each checked, then the whole validated once (so
+        keys that constrain each other may change in any order)."""
         new = self.copy()
-        sec = getattr(new, section)
-        setattr(sec, name, _coerce(sec, name, value, dotted))
+        for dotted, value in values.items():
+            section, name = _split_key(dotted)
+            sec = getattr(new, section)
+            setattr(sec, name, _coerce(sec, name, value, dotted))
         validate(new)
         return new
 
@@ -302,6 +308,12 @@ def validate(scene: Scene) -> None:
     if b.solver in ("pbd", "xpbd") and b.integrator != "verlet":
         raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
                          f"\"springs\"; {b.solver} predicts positions with verlet")
+    if b.wave and 2 * math.pi * b.wave_amplitude * b.wave_frequency > b.max_speed:
+        raise SceneError(f"behavior.wave_amplitude = {b.wave_amplitude:g} m at "
+                         f"behavior.wave_frequency = {b.wave_frequency:g} Hz drives the edge at "
+                         f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
+                         f"2π·amplitude·frequency must not exceed behavior.max_speed = "
+                         f"{b.max_speed:g} m/s")
     n = scene.cloth.resolution
     if b.self_collision == "naive" and n > 128:
         raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "
@@ -441,10 +453,7 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 
 def apply_overrides(scene: Scene, overrides: list[str] | None) -> Scene:
-    for text in overrides or []:
-        dotted, value = parse_override(text)
-        scene = scene.with_value(dotted, value)
-    return scene
+    return scene.with_values(dict(parse_override(text) for text in overrides or []))
 
 
 def reference_markdown() -> str:

@@ -72,3 +72,11 @@ def test_readme_documents_every_key():
     readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
     assert sc.reference_markdown() in readme, \
         "README key reference is stale: regenerate it from cloth_tui.scene.reference_markdown()"
+
+
+def test_overrides_that_constrain_each_other_apply_in_any_order():
+    a = sc.apply_overrides(Scene(), ["behavior.wave=true", "behavior.wave_amplitude=15",
+                                     "behavior.wave_frequency=0.5"])
+    assert a.behavior.wave_amplitude == 15.0
+    with pytest.raises(SceneError, match="max_speed"):
+        sc.apply_overrides(Scene(), ["behavior.wave=true", "behavior.wave_amplitude=15"])

@@ -237,13 +237,34 @@ class CollideFloor:
         self.surface = height
         self.friction, self.thickness = friction, thickness
 
-    def apply(self, state, h):
-        collide_floor(state.x, state.x_prev, self.inv_mass, self.surface, self.friction,
-                      self.thickness)
+    def apply(self, state, h, friction: float | None = None):
+        f = self.friction if friction is None else friction
+        collide_floor(state.x, state.x_prev, self.inv_mass, self.surface, f, self.thickness)
 
     def penetration(self, x: np.ndarray) -> float:
         """Deepest any particle is below the floor's surface, m."""
         return float(max(0.0, self.surface - x[:, 1].min()))
+
+
+class ResolveContacts:
+    """After the constraint pass: particles it pulled back inside an object are projected out
+    again, without friction (friction acted once already, in the contact pass). Without this
+    a sheet landing on the sphere at 4 substeps sinks 7–11 mm for a moment."""
+
+    name = "resolve_contacts"
+
+    def __init__(self, colliders: list):
+        self.colliders = colliders
+
+    def apply(self, state, h):
+        for collider in self.colliders:
+            collider.apply(state, h, friction=0.0)
+
+
+def resolve_contacts(contact_effects: list) -> list:
+    """The post-constraint pass for the colliders among `contact_effects`, if any."""
+    colliders = [e for e in contact_effects if hasattr(e, "penetration")]
+    return [ResolveContacts(colliders)] if colliders else []
 
 
 def orbit_offset(t: float) -> np.ndarray:
@@ -275,12 +296,12 @@ class ObjectCollider:
     def center_at(self, t: float) -> np.ndarray:
         return self.center0 + orbit_offset(t) if self.moving else self.center0
 
-    def apply(self, state, h):
+    def apply(self, state, h, friction: float | None = None):
         before, after = self.center_at(state.t), self.center_at(state.t + h)
         d = after - before
         self.center = after
-        c, f, thk, x, xp, w = after, self.friction, self.thickness, state.x, state.x_prev, \
-            self.inv_mass
+        f = self.friction if friction is None else friction
+        c, thk, x, xp, w = after, self.thickness, state.x, state.x_prev, self.inv_mass
         k = self.kind
         if k == "sphere":
             collide_sphere(x, xp, w, c[0], c[1], c[2], self.radius, d[0], d[1], d[2], f, thk)

@@ -22,7 +22,7 @@ from .state import ClothState
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
                                      "height")} | \
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
-                                        "tethers")}
+                                        "tethers", "wave")}
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 
@@ -77,6 +77,7 @@ class Simulation:
         self.step = pipeline.build(scene, self.model)
         self._guard_level = 0
         self._good = self.state.copy()
+        self.halted: str | None = None  # why stepping stopped, if it did
 
     def set_scene(self, scene: Scene) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
@@ -96,9 +97,11 @@ class Simulation:
     # -- stepping -------------------------------------------------------------------------
     def advance_frame(self) -> None:
         """One frame; a diverging frame is undone and retried with more substeps."""
+        if self.halted:
+            return
         t0 = time.perf_counter()
         self.step.frame(self.state)
-        while not self._healthy():
+        while not self._healthy() and not self.halted:
             self._recover()
         if self._guard_level and self.frames % 60 == 0:
             self._guard_level -= 1  # try the scene's own substeps again now and then
@@ -119,7 +122,8 @@ class Simulation:
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
-        if float(np.max(np.abs(self.state.v), initial=0.0)) > 4.0 * b.max_speed:
+        free = self.model.inv_mass > 0.0  # pins move as prescribed (the wave), however fast
+        if float(np.max(np.abs(self.state.v[free]), initial=0.0)) > 4.0 * b.max_speed:
             return False
         return b.solver != "springs" or stretch(self.model, self.state.x)[0] <= SPRING_DIVERGED
 
@@ -127,11 +131,14 @@ class Simulation:
         self.recoveries += 1
         self.state.restore(self._good)
         if self._guard_level >= MAX_GUARD_LEVEL:
-            # Even 16× the substeps diverges: start the sheet over rather than show garbage.
-            self.state.restore(ClothState.from_model(self.model))
-            self._guard_level = 0
-            self.step = pipeline.build(self.scene, self.model)
-            self._good = self.state.copy()
+            # Even 16× the substeps diverges: hold the last good state and say why, rather
+            # than show garbage or restart the sheet every frame.
+            b = self.scene.behavior
+            self.halted = (f"the step diverges even at {b.substeps << MAX_GUARD_LEVEL} substeps "
+                           f"per frame; lower behavior.stiffness, raise behavior.substeps"
+                           + (" or use behavior.integrator = implicit_euler"
+                              if b.solver == "springs" else "")
+                           + ", then restart")
             return
         self._guard_level += 1
         self.step = pipeline.build(self.scene, self.model,
@@ -175,6 +182,7 @@ class Simulation:
             "penetration": self.penetration,
             "effects": self.step.names,
             "recoveries": self.recoveries,
+            "halted": self.halted,
             "wall_s": self.wall_s,
         }
 

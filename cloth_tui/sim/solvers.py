@@ -17,6 +17,7 @@ import time
 from numba import njit, prange
 
 from ..scene import ORIGINAL_TIMESTEP
+from . import colliders
 
 # Below this many constraints per colour, thread start-up costs more than it saves.
 PARALLEL_MIN_PER_COLOR = 4096
@@ -30,29 +31,32 @@ def damping_factor(damping: float, h: float) -> float:
 
 @njit(nogil=True, cache=True, fastmath=True)
 def integrate_verlet(x, x_prev, v, accel, inv_mass, h, keep, max_speed):
-    """Position Verlet with damping; the velocity term is clamped to `max_speed`."""
+    """Position Verlet with damping. The step's displacement, velocity and acceleration terms
+    together, is clamped to max_speed·h: no particle outruns the colliders' thickness or
+    the constraints, whatever force or impulse acts on it."""
     h2 = h * h
-    vmax2 = max_speed * max_speed
+    max_step = max_speed * h
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:
             x_prev[i, 0] = x[i, 0]
             x_prev[i, 1] = x[i, 1]
             x_prev[i, 2] = x[i, 2]
         else:
-            vx = v[i, 0] * keep
-            vy = v[i, 1] * keep
-            vz = v[i, 2] * keep
-            s2 = vx * vx + vy * vy + vz * vz
-            if s2 > vmax2:
-                s = max_speed / math.sqrt(s2)
-                vx *= s
-                vy *= s
-                vz *= s
-            for k in range(3):
-                x_prev[i, k] = x[i, k]
-            x[i, 0] += vx * h + accel[i, 0] * h2
-            x[i, 1] += vy * h + accel[i, 1] * h2
-            x[i, 2] += vz * h + accel[i, 2] * h2
+            dx = v[i, 0] * keep * h + accel[i, 0] * h2
+            dy = v[i, 1] * keep * h + accel[i, 1] * h2
+            dz = v[i, 2] * keep * h + accel[i, 2] * h2
+            d2 = dx * dx + dy * dy + dz * dz
+            if d2 > max_step * max_step:
+                s = max_step / math.sqrt(d2)
+                dx *= s
+                dy *= s
+                dz *= s
+            x_prev[i, 0] = x[i, 0]
+            x_prev[i, 1] = x[i, 1]
+            x_prev[i, 2] = x[i, 2]
+            x[i, 0] += dx
+            x[i, 1] += dy
+            x[i, 2] += dz
         accel[i, 0] = 0.0
         accel[i, 1] = 0.0
         accel[i, 2] = 0.0
@@ -250,6 +254,7 @@ def assemble(scene, model, h: float, force_effects: list, contact_effects: list)
         effects.append(EnforceTethers(model))
     if model.num_constraints:
         effects.append(ProjectConstraints(model, b.iterations))
+        effects += colliders.resolve_contacts(contact_effects)
     if len(model.pinned):
         effects.append(ApplyPins(model))
     effects.append(UpdateVelocities())

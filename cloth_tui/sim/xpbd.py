@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from . import solvers
+from . import colliders, solvers
 
 
 @njit(nogil=True, cache=True, fastmath=True)
@@ -130,6 +130,7 @@ def assemble(scene, model, h: float, force_effects: list, contact_effects: list)
         effects.append(solvers.EnforceTethers(model))  # as in pbd: before the constraints
     if model.num_constraints:
         effects.append(ProjectXPBDConstraints(model, b.compliance, b.iterations, h))
+        effects += colliders.resolve_contacts(contact_effects)
     if len(model.pinned):
         effects.append(solvers.ApplyPins(model))
     effects.append(solvers.UpdateVelocities())
