@@ -81,8 +81,6 @@ class ClothApp(App):
         return self.query_one(Controls)
 
     def on_mount(self) -> None:
-        self.sim = SimulationThread(self.scene, on_snapshot=self._on_snapshot)
-        self.sim.paused = self.start_paused
         try:
             self.renderer = self.renderer_factory(
                 scene=self.scene, size=(160, 90), captures_dir=self.captures_dir,
@@ -92,9 +90,16 @@ class ClothApp(App):
             self.renderer = None
             self.notify(f"renderer unavailable: {type(e).__name__}: {e}", severity="error",
                         timeout=10)
+        self._start_sim(paused=self.start_paused)
+        self.set_interval(0.2, self._refresh_status)
+
+    def _start_sim(self, paused: bool) -> None:
+        if self.sim is not None:
+            self.sim.stop(timeout=0.2)
+        self.sim = SimulationThread(self.scene, on_snapshot=self._on_snapshot)
+        self.sim.paused = paused
         self.sim.start()
         self._on_snapshot(self.sim.latest)  # first picture and stats, even when paused
-        self.set_interval(0.2, self._refresh_status)
 
     # -- from other threads (never touch widgets here) ------------------------------------
     def _on_snapshot(self, snap) -> None:
@@ -264,7 +269,10 @@ class ClothApp(App):
         self._refresh_status()
 
     def action_restart(self) -> None:
-        if self.sim is not None:
+        if self.sim is None or self.sim.error is not None:  # the thread died: a new one
+            self._start_sim(paused=False)
+            self.notify("Simulation restarted")
+        else:
             self.sim.submit(lambda sim: sim.reset())
         self.readout.restart()
         self._log_key("restart")

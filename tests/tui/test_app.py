@@ -209,6 +209,11 @@ def test_captures_and_failures_are_reported(tmp_path):
             app._on_snapshot(None)
             await until(pilot, lambda: any("boom" in m for m in notifications(app)))
             assert app.is_running
+            dead = app.sim
+            await pilot.press("r")  # a new simulation thread replaces the dead one
+            assert app.sim is not dead and app.sim.error is None
+            assert not dead._thread.is_alive()
+            await until(pilot, lambda: app.sim.latest.frame > 2, what="new sim running")
     run(go())
 
 

@@ -1,0 +1,53 @@
+"""The plain parts of the TUI, without an app: image → half-block strips, rates, readout."""
+
+import numpy as np
+
+from cloth_tui.tui.panels import format_value, parse_text
+from cloth_tui.tui.preview import CROSSHAIR, HALF, StyleCache, image_to_strips, resample
+from cloth_tui.tui.status import RateMeter, Readout
+
+
+def test_resample_averages_exact_multiples_and_picks_otherwise():
+    img = np.zeros((8, 4, 3), np.uint8)
+    img[0, 0] = 200  # one of the 2×2 pixels of cell (0, 0)'s top half
+    out = resample(img, 2, 2)
+    assert out.shape == (4, 2, 3) and out[0, 0, 0] == 50
+    odd = resample(np.zeros((7, 5, 3), np.uint8), 3, 2)
+    assert odd.shape == (4, 3, 3)
+
+
+def test_strips_are_half_blocks_with_top_and_bottom_colours():
+    img = np.zeros((4, 3, 3), np.uint8)
+    img[0] = (255, 0, 0)
+    img[1] = (0, 0, 255)
+    strips = image_to_strips(img, 3, 2, StyleCache(), crosshair=(1, 1))
+    assert len(strips) == 2 and all(s.cell_length == 3 for s in strips)
+    seg = list(strips[0])[0]
+    assert seg.text == HALF * 3  # one run of equal cells → one segment
+    assert seg.style.color.triplet == (252, 0, 0) and seg.style.bgcolor.triplet == (0, 0, 252)
+    assert "".join(s.text for s in strips[1]) == HALF + CROSSHAIR + HALF
+
+
+def test_rate_meter_and_readout():
+    m = RateMeter(window=1.0)
+    for i in range(11):
+        m.add(i * 3, now=i * 0.1)
+    assert abs(m.rate(now=1.0) - 30.0) < 1e-9
+    assert m.rate(now=5.0) == 0.0  # nothing new for longer than the window
+    r = Readout()
+    r.on_snapshot(0, {"energy": 1.0, "particles": 4}, 0.002)
+    r.on_snapshot(1, {"energy": 0.75, "particles": 4}, 0.003)
+    assert r.drift == -0.25 and r.step_ms == 3.0
+    state, cost = r.text(paused=False, recording=True, iterations=4, substeps=2)
+    assert "REC" in state and "4 particles" in state and "4 iterations × 2 substeps" in cost
+    r.on_snapshot(0, {"energy": 2.0}, 0.001)  # frame went back: a restart
+    assert r.drift == 0.0
+
+
+def test_input_text_parsing():
+    assert parse_text("forces.wind_direction", "[1, 0, -2]") == [1.0, 0.0, -2.0]
+    assert parse_text("forces.wind_direction", "1 0 x") == "1 0 x"  # refused later
+    assert parse_text("cloth.resolution", "12") == 12
+    assert parse_text("cloth.resolution", "1.5") == 1.5  # refused later: not an integer
+    assert parse_text("cloth.size", "abc") == "abc"
+    assert format_value([1.0, 0.0, 0.5]) == "1, 0, 0.5" and format_value(1e-8) == "1e-08"
