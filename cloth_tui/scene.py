@@ -124,10 +124,13 @@ class Behavior:
                          lo=0.0, hi=1.0, hi_open=True)
     solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
                       choices=SOLVERS)
-    integrator: str = key("verlet", "time integrator (pbd/xpbd use verlet)", choices=INTEGRATORS)
+    integrator: str = key("verlet", "time integrator (pbd/xpbd use verlet); with springs at the "
+                          "default stiffness only implicit_euler is stable at 4 substeps",
+                          choices=INTEGRATORS)
     compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,
                             hi=1.0)
-    stiffness: float = key(2000.0, "springs: spring constant", unit="N/m", lo=0.0,
+    stiffness: float = key(2000.0, "springs: spring constant (explicit integrators need "
+                           "h < 0.66·√(m/k) per substep, see Accuracy)", unit="N/m", lo=0.0,
                            lo_open=True, hi=1e9)
     spring_damping: float = key(0.5, "springs: damping along each spring", unit="N·s/m",
                                 lo=0.0, hi=1e6)
