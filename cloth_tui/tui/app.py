@@ -217,6 +217,8 @@ class ClothApp(App):
         elif message.command == "defaults":
             self.apply_scene(Scene(name=self.scene.name), restart=True)
             self.notify("Settings restored to their defaults")
+        elif message.command == "hide":
+            self.action_toggle_controls()
 
     # -- scene changes --------------------------------------------------------------------
     def set_value(self, dotted: str, value: Any) -> bool:

@@ -169,7 +169,7 @@ class Controls(VerticalScroll):
     """Top-level settings and buttons, then the four collapsible groups."""
 
     class Command(Message):
-        """A button: 'restart' or 'defaults'."""
+        """A button: 'restart', 'defaults' or 'hide'."""
 
         def __init__(self, command: str) -> None:
             super().__init__()
@@ -185,6 +185,7 @@ class Controls(VerticalScroll):
         with Horizontal(id="buttons"):
             yield Button("Restart", id="restart", compact=True, variant="primary")
             yield Button("Restore defaults", id="defaults", compact=True, variant="warning")
+            yield Button("Hide", id="hide", compact=True, tooltip="hide the controls (c)")
         for group in GROUPS:
             with Collapsible(title=group, collapsed=group != "Forces",
                              id="group-" + group.lower()):

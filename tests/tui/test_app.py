@@ -108,6 +108,8 @@ def test_view_keys_save_and_hide(tmp_path):
             assert not app.controls.display
             await pilot.press("c")
             assert app.controls.display
+            await pilot.click("#hide")  # the original's "Close controls" button
+            assert not app.controls.display
     run(go())
 
 
