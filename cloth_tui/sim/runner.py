@@ -183,6 +183,9 @@ class Simulation:
             "effects": self.step.names,
             "recoveries": self.recoveries,
             "halted": self.halted,
+            "frame_ms": 1e3 * self.last_step_s,            # simulation time of the last frame
+            "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
+            "substeps_used": self.step.substeps,            # more than asked while recovering
             "wall_s": self.wall_s,
         }
 
@@ -217,6 +220,11 @@ class SimulationThread:
         self._stop.set()
         self._wake.set()
         self._thread.join(timeout)
+
+    def pause(self, paused: bool) -> None:
+        """Pause or resume; the thread publishes a snapshot at once either way."""
+        self.paused = paused
+        self.submit(lambda sim: None)
 
     def submit(self, command: Callable[[Simulation], None]) -> None:
         """Run `command(sim)` on the simulation thread between frames."""

@@ -49,6 +49,7 @@ class ClothApp(App):
         self.captures_dir = Path(captures_dir)
         self.renderer_factory = renderer_factory or default_renderer_factory
         self.start_paused = start_paused
+        self._halt_told: str | None = None  # the runner's halt reason already notified
         self.readout = Readout()
         self.sim: SimulationThread | None = None
         self.renderer: Any = None
@@ -127,7 +128,11 @@ class ClothApp(App):
         self._snap_posted = False
         snap = self._snap_box
         if snap is not None and self.sim is not None:
-            self.readout.on_snapshot(snap.frame, snap.stats, self.sim.sim.last_step_s)
+            self.readout.on_snapshot(snap.frame, snap.stats)
+            halted = snap.stats.get("halted")
+            if halted and halted != self._halt_told:
+                self.notify(f"Simulation stopped: {halted}", severity="error", timeout=15)
+            self._halt_told = halted
 
     def on_frame_ready(self, _: FrameReady) -> None:
         self._frame_posted = False
@@ -266,8 +271,7 @@ class ClothApp(App):
 
     def action_pause(self) -> None:
         if self.sim is not None:
-            self.sim.paused = not self.sim.paused
-            self.sim.submit(lambda sim: None)  # publish at once, wake the thread
+            self.sim.pause(not self.sim.paused)
         self._refresh_status()
 
     def action_restart(self) -> None:

@@ -45,6 +45,7 @@ class Readout:
         self.view_rate = RateMeter()
         self.shown = 0
         self.stats: dict = {}
+        self.frame_ms = 0.0
         self.step_ms = 0.0
         self.render_ms = 0.0
         self.energy0: float | None = None
@@ -54,12 +55,13 @@ class Readout:
     def restart(self) -> None:
         self.energy0 = None
 
-    def on_snapshot(self, frame: int, stats: dict, step_s: float) -> None:
+    def on_snapshot(self, frame: int, stats: dict) -> None:
         if frame < self.last_frame or self.energy0 is None:
             self.energy0 = stats.get("energy")
         if frame != self.last_frame:
-            self.step_ms = step_s * 1000.0
-            self.ms_history.append(self.step_ms)
+            self.frame_ms = stats.get("frame_ms", 0.0)
+            self.step_ms = stats.get("step_ms", 0.0)
+            self.ms_history.append(self.frame_ms)
         self.last_frame = frame
         self.stats = stats
         self.sim_rate.add(frame)
@@ -90,10 +92,15 @@ class Readout:
             f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
             f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
         ]
+        if s.get("halted"):
+            parts.append("[b white on red] HALTED: diverging [/]")
         if s.get("recoveries"):
             parts.append(f"[red]{s['recoveries']} recoveries[/]")
-        cost = (f"cost [b]{self.step_ms:6.2f}[/] ms/step at {iterations} iterations × "
-                f"{substeps} substeps · render {self.render_ms:5.1f} ms · ms/step:")
+        used = s.get("substeps_used", substeps)
+        shown = f"{substeps}" if used == substeps else f"{substeps} (now {used})"
+        cost = (f"cost [b]{self.frame_ms:6.2f}[/] ms/frame, {self.step_ms:5.3f} ms/step at "
+                f"{iterations} iterations × {shown} substeps · render {self.render_ms:5.1f} ms"
+                f" · ms/frame:")
         return " · ".join(parts), cost
 
 

@@ -35,12 +35,17 @@ def test_rate_meter_and_readout():
     assert abs(m.rate(now=1.0) - 30.0) < 1e-9
     assert m.rate(now=5.0) == 0.0  # nothing new for longer than the window
     r = Readout()
-    r.on_snapshot(0, {"energy": 1.0, "particles": 4}, 0.002)
-    r.on_snapshot(1, {"energy": 0.75, "particles": 4}, 0.003)
-    assert r.drift == -0.25 and r.step_ms == 3.0
+    r.on_snapshot(0, {"energy": 1.0, "particles": 4, "frame_ms": 2.0, "step_ms": 1.0})
+    r.on_snapshot(1, {"energy": 0.75, "particles": 4, "frame_ms": 6.0, "step_ms": 3.0,
+                      "substeps_used": 2})
+    assert r.drift == -0.25 and r.step_ms == 3.0 and r.frame_ms == 6.0
     state, cost = r.text(paused=False, recording=True, iterations=4, substeps=2)
     assert "REC" in state and "4 particles" in state and "4 iterations × 2 substeps" in cost
-    r.on_snapshot(0, {"energy": 2.0}, 0.001)  # frame went back: a restart
+    assert "6.00" in cost and "ms/frame" in cost
+    r.on_snapshot(2, {"energy": 0.7, "substeps_used": 8, "halted": "diverges"})
+    state, cost = r.text(paused=False, recording=False, iterations=4, substeps=2)
+    assert "HALTED" in state and "2 (now 8) substeps" in cost
+    r.on_snapshot(0, {"energy": 2.0})  # frame went back: a restart
     assert r.drift == 0.0
 
 
