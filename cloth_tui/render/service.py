@@ -25,6 +25,8 @@ MAX_REPEAT = 5              # frames a slow render may be repeated to keep the v
 IDLE_ORBIT_PERIOD = 1 / 30  # s between redraws when auto-rotating with no new snapshots
 AUTO_ROTATE_DEG_PER_S = 12.0  # one turn in 30 s, three.js OrbitControls' autoRotateSpeed 2
 VIDEO_SUFFIX = ".mp4"
+SCREENSHOT_HEIGHT = 720   # px; the width follows the preview's aspect ratio
+VIDEO_HEIGHT = 480        # px; software GL renders 26² at this size in ~5 ms
 
 
 @dataclass(frozen=True)
@@ -97,7 +99,14 @@ class RenderService:
         self._command(lambda: self._do(lambda r: r.update_scene(scene)))
 
     def resize(self, w: int, h: int) -> None:
-        self._command(lambda: self._do(lambda r: r.resize(w, h)))
+        """The preview's size. While a video records, the picture keeps the video's size and
+        takes this one when the recording ends."""
+        def apply() -> bool:
+            self._size = (int(w), int(h))
+            if self._video is None:
+                self._renderer.resize(*self._size)
+            return True
+        self._command(apply)
 
     def orbit(self, d_azimuth: float, d_elevation: float) -> None:
         self._command(lambda: self._do(lambda r: r.orbit(d_azimuth, d_elevation)))
@@ -233,13 +242,30 @@ class RenderService:
         except CaptureError as e:
             self._emit("error", None, f"preview file disabled: {e}")
 
+    def capture_size(self, height: int) -> tuple[int, int]:
+        """A capture `height` pixels tall framed like the preview (its aspect ratio), with
+        even sides for H.264."""
+        pw, ph = self._size
+        w = max(2, int(round(height * pw / max(ph, 1) / 2)) * 2)
+        return w, height
+
     def _do_screenshot(self) -> bool:
-        if self._last_image is None:
+        """Draw the newest frame again at SCREENSHOT_HEIGHT (the preview is only as many
+        pixels as the terminal has cells) and save it."""
+        if self._last_snapshot is None:
             self._emit("error", None, "screenshot: nothing has been drawn yet")
             return False
+        r = self._renderer
+        shown = r.size
         try:
+            if self._video is None:
+                r.resize(*self.capture_size(SCREENSHOT_HEIGHT))
+                image = r.render(self._last_snapshot)
+                r.resize(*shown)
+            else:  # recording: the picture is already at the video's size
+                image = self._last_image
             folder = ensure_folder(self.captures_dir)
-            path = save_png(self._last_image, timestamped(folder, "cloth", ".png"))
+            path = save_png(image, timestamped(folder, "cloth", ".png"))
         except CaptureError as e:
             self._emit("error", None, str(e))
             return False
@@ -252,8 +278,10 @@ class RenderService:
         try:
             folder = ensure_folder(self.captures_dir)
             self._video_t0 = None
+            size = self.capture_size(VIDEO_HEIGHT)
             self._video = VideoWriter(timestamped(folder, "cloth", VIDEO_SUFFIX), VIDEO_FPS,
-                                      self._renderer.size)
+                                      size)
+            self._renderer.resize(*size)  # the preview shows the same, larger picture
         except CaptureError as e:
             self._recording = False
             self._emit("error", None, str(e))
@@ -269,6 +297,7 @@ class RenderService:
         video, self._video = self._video, None
         if video is None:
             return
+        self._renderer.resize(*self._size)
         try:
             path = video.close()
         except CaptureError as e:

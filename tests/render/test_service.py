@@ -54,6 +54,11 @@ def test_renders_on_its_own_thread_and_saves_screenshots(service):
     shot = got.event("screenshot")
     assert shot.path.exists() and shot.path.suffix == ".png"
     assert (shot.path.parent / "preview.png").exists()
+    # Drawn again at 720 px, framed like the 96×72 preview; the preview keeps its size.
+    import imageio.v3 as iio
+    assert iio.imread(shot.path).shape == (720, 960, 3)
+    service.submit(draped(scene_with(), frame=5))
+    assert got.frames.get(timeout=10).image.shape == (72, 96, 3)
 
 
 def test_camera_and_size_commands_redraw(service):
@@ -92,6 +97,8 @@ def test_recording_makes_a_video(service):
     saved = got.event("video_saved")
     # Real time at 30 fps: frames are repeated or skipped to match the wall clock.
     assert saved.path == started.path
+    import imageio.v3 as iio
+    assert iio.imread(saved.path, index=0).shape == (480, 640, 3)  # VIDEO_HEIGHT, 4:3 preview
     assert 0.5 * elapsed * 30 <= count_frames(saved.path) <= elapsed * 30 + 6
 
 
