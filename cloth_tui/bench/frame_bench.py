@@ -9,16 +9,18 @@ from __future__ import annotations
 import statistics
 import time
 
-# The preview of a 160×48 terminal: about 112 × 44 cells, 2 pixels per cell vertically.
+# The preview of a 160×48 terminal: about 112 × 44 cells, each 1×2 pixels, drawn by the
+# renderer at SCALE times that and averaged down, as the app does.
 PREVIEW_CELLS = (112, 44)
 
 
 def bench_frames(quick: bool = False) -> list[dict]:
     from ..render.renderer import Renderer
     from ..scene import load
-    from ..tui.preview import StyleCache, image_to_strips
+    from ..tui.preview import SCALE, StyleCache, image_to_strips
 
     cols, rows = PREVIEW_CELLS
+    width, height = cols * SCALE, 2 * rows * SCALE
     cases = [("default", {}), ("default 128×128", {"cloth.resolution": 128})]
     frames = 30 if quick else 120
     out = []
@@ -29,7 +31,7 @@ def bench_frames(quick: bool = False) -> list[dict]:
         for k, v in overrides.items():
             scene = scene.with_value(k, v)
         sim = Simulation(scene)
-        renderer = Renderer(scene, (cols, 2 * rows))
+        renderer = Renderer(scene, (width, height))
         styles = StyleCache()
         try:
             for _ in range(5):  # warm-up: kernels, shaders, style cache
@@ -53,7 +55,7 @@ def bench_frames(quick: bool = False) -> list[dict]:
         total = [a + b + c for a, b, c in zip(sim_t, render_t, encode_t)]
         med = statistics.median(total)
         out.append({"bench": "frame", "scene": label, "substeps": scene.behavior.substeps,
-                    "image": f"{cols}x{2 * rows}",
+                    "image": f"{width}x{height}", "cells": f"{cols}x{rows}",
                     "simulate_ms": 1e3 * statistics.median(sim_t),
                     "render_ms": 1e3 * statistics.median(render_t),
                     "encode_ms": 1e3 * statistics.median(encode_t),
