@@ -120,105 +120,45 @@ def collide_floor(x, x_prev, inv_mass, height, friction, thickness):
             x[i, 1] = height + thickness
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_plane(x, x_prev, inv_mass, side, px, py, pz, nx, ny, nz, dx, dy, dz,
-                  friction, thickness):
-    """Two-sided infinite plane through p with unit normal n. side[i] = ±1 is the side the
-    particle started on; an infinite plane cannot be walked around, so it keeps it."""
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        mx = side[i] * nx
-        my = side[i] * ny
-        mz = side[i] * nz
-        d, _, _, _ = _plane_distance(x[i, 0] - px, x[i, 1] - py, x[i, 2] - pz, mx, my, mz)
-        if d >= thickness:
-            continue
-        qx = x[i, 0] + (thickness - d) * mx
-        qy = x[i, 1] + (thickness - d) * my
-        qz = x[i, 2] + (thickness - d) * mz
-        d_prev, _, _, _ = _plane_distance(x_prev[i, 0] + dx - px, x_prev[i, 1] + dy - py,
-                                          x_prev[i, 2] + dz - pz, mx, my, mz)
-        if d_prev > 0.0 and friction > 0.0:
-            qx, qy, qz = _blend(x, x_prev, i, d, mx, my, mz, dx, dy, dz, friction, thickness)
-            dq, _, _, _ = _plane_distance(qx - px, qy - py, qz - pz, mx, my, mz)
-            if dq < thickness:
-                qx += (thickness - dq) * mx
-                qy += (thickness - dq) * my
-                qz += (thickness - dq) * mz
-        x[i, 0] = qx
-        x[i, 1] = qy
-        x[i, 2] = qz
+SPHERE, BOX, CAPSULE, PLANE = 0, 1, 2, 3
+SHAPES = {"sphere": SPHERE, "box": BOX, "capsule": CAPSULE, "plane": PLANE}
+
+
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _shape_distance(shape, qx, qy, qz, p, s):
+    """Signed distance and outward normal of `shape` with parameters p (p[0:3] the centre, then
+    sphere: r; box: half sides; capsule: axis, half length, r; plane: normal), for a point q
+    relative to the centre. s = ±1 picks the side of a two-sided plane."""
+    if shape == SPHERE:
+        return _sphere_distance(qx, qy, qz, p[3])
+    if shape == BOX:
+        return _box_distance(qx, qy, qz, p[3], p[4], p[5])
+    if shape == CAPSULE:
+        return _capsule_distance(qx, qy, qz, p[3], p[4], p[5], p[6], p[7])
+    return _plane_distance(qx, qy, qz, s * p[3], s * p[4], s * p[5])
 
 
 @njit(nogil=True, cache=True, fastmath=True)
-def collide_sphere(x, x_prev, inv_mass, cx, cy, cz, r, dx, dy, dz, friction, thickness):
+def collide_shape(x, x_prev, inv_mass, side, shape, p, dx, dy, dz, friction, thickness):
+    """The contact and friction rule for one object. side[i] = ±1 is the side of a plane the
+    particle started on (an infinite plane cannot be walked around, so it keeps it); other
+    shapes ignore it. (dx, dy, dz) is the object's displacement over this substep."""
+    cx, cy, cz = p[0], p[1], p[2]
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:
             continue
-        d, nx, ny, nz = _sphere_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, r)
+        s = side[i]
+        d, nx, ny, nz = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, s)
         if d >= thickness:
             continue
         qx = x[i, 0] + (thickness - d) * nx
         qy = x[i, 1] + (thickness - d) * ny
         qz = x[i, 2] + (thickness - d) * nz
-        d_prev, _, _, _ = _sphere_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
-                                           x_prev[i, 2] + dz - cz, r)
+        d_prev, _, _, _ = _shape_distance(shape, x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
+                                          x_prev[i, 2] + dz - cz, p, s)
         if d_prev > 0.0 and friction > 0.0:
             qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
-            dq, mx, my, mz = _sphere_distance(qx - cx, qy - cy, qz - cz, r)
-            if dq < thickness:
-                qx += (thickness - dq) * mx
-                qy += (thickness - dq) * my
-                qz += (thickness - dq) * mz
-        x[i, 0] = qx
-        x[i, 1] = qy
-        x[i, 2] = qz
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_box(x, x_prev, inv_mass, cx, cy, cz, hx, hy, hz, dx, dy, dz, friction, thickness):
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        d, nx, ny, nz = _box_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, hx, hy, hz)
-        if d >= thickness:
-            continue
-        qx = x[i, 0] + (thickness - d) * nx
-        qy = x[i, 1] + (thickness - d) * ny
-        qz = x[i, 2] + (thickness - d) * nz
-        d_prev, _, _, _ = _box_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
-                                        x_prev[i, 2] + dz - cz, hx, hy, hz)
-        if d_prev > 0.0 and friction > 0.0:
-            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
-            dq, mx, my, mz = _box_distance(qx - cx, qy - cy, qz - cz, hx, hy, hz)
-            if dq < thickness:
-                qx += (thickness - dq) * mx
-                qy += (thickness - dq) * my
-                qz += (thickness - dq) * mz
-        x[i, 0] = qx
-        x[i, 1] = qy
-        x[i, 2] = qz
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_capsule(x, x_prev, inv_mass, cx, cy, cz, ax, ay, az, half, r, dx, dy, dz,
-                    friction, thickness):
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        d, nx, ny, nz = _capsule_distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz,
-                                          ax, ay, az, half, r)
-        if d >= thickness:
-            continue
-        qx = x[i, 0] + (thickness - d) * nx
-        qy = x[i, 1] + (thickness - d) * ny
-        qz = x[i, 2] + (thickness - d) * nz
-        d_prev, _, _, _ = _capsule_distance(x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
-                                            x_prev[i, 2] + dz - cz, ax, ay, az, half, r)
-        if d_prev > 0.0 and friction > 0.0:
-            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
-            dq, mx, my, mz = _capsule_distance(qx - cx, qy - cy, qz - cz, ax, ay, az, half, r)
+            dq, mx, my, mz = _shape_distance(shape, qx - cx, qy - cy, qz - cz, p, s)
             if dq < thickness:
                 qx += (thickness - dq) * mx
                 qy += (thickness - dq) * my
@@ -292,6 +232,17 @@ class ObjectCollider:
         self.friction, self.thickness = float(friction), float(thickness)
         self.side = np.ones(model.num_particles)  # plane: side of each particle
         self._sides_known = False
+        self.shape = SHAPES[kind]
+        self.params = np.zeros(8)  # centre, then the shape's own (see _shape_distance)
+        if kind == "sphere":
+            self.params[3] = self.radius
+        elif kind == "box":
+            self.params[3:6] = 0.5 * self.size
+        elif kind == "capsule":
+            self.params[3:6] = self.normal
+            self.params[6:8] = 0.5 * self.size[1], self.radius
+        else:
+            self.params[3:6] = self.normal
 
     def center_at(self, t: float) -> np.ndarray:
         return self.center0 + orbit_offset(t) if self.moving else self.center0
@@ -301,24 +252,14 @@ class ObjectCollider:
         d = after - before
         self.center = after
         f = self.friction if friction is None else friction
-        c, thk, x, xp, w = after, self.thickness, state.x, state.x_prev, self.inv_mass
-        k = self.kind
-        if k == "sphere":
-            collide_sphere(x, xp, w, c[0], c[1], c[2], self.radius, d[0], d[1], d[2], f, thk)
-        elif k == "box":
-            hx, hy, hz = 0.5 * self.size
-            collide_box(x, xp, w, c[0], c[1], c[2], hx, hy, hz, d[0], d[1], d[2], f, thk)
-        elif k == "capsule":
-            a = self.normal
-            collide_capsule(x, xp, w, c[0], c[1], c[2], a[0], a[1], a[2], 0.5 * self.size[1],
-                            self.radius, d[0], d[1], d[2], f, thk)
-        elif k == "plane":
-            if not self._sides_known:  # the side each particle was on before this substep
-                self.side[:] = np.where((xp - before) @ self.normal >= 0.0, 1.0, -1.0)
-                self._sides_known = True
-            n = self.normal
-            collide_plane(x, xp, w, self.side, c[0], c[1], c[2], n[0], n[1], n[2],
-                          d[0], d[1], d[2], f, thk)
+        p = self.params
+        p[0:3] = after
+        if self.kind == "plane" and not self._sides_known:
+            # the side each particle was on before this substep
+            self.side[:] = np.where((state.x_prev - before) @ self.normal >= 0.0, 1.0, -1.0)
+            self._sides_known = True
+        collide_shape(state.x, state.x_prev, self.inv_mass, self.side, self.shape, p,
+                      d[0], d[1], d[2], f, self.thickness)
 
     def signed_distance(self, x: np.ndarray) -> np.ndarray:
         """Distance of each point outside the true surface (negative inside), m."""
@@ -341,7 +282,8 @@ class ObjectCollider:
         free = self.inv_mass != 0.0
         if not free.any():
             return 0.0
-        return float(max(0.0, -self.signed_distance(x[free]).min()))
+        # signed_distance takes every particle: a plane's side is kept per particle
+        return float(max(0.0, -self.signed_distance(x)[free].min()))
 
     def pose(self, t: float) -> ObjectPose:
         c = self.center_at(t)

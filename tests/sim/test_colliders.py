@@ -5,23 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from cloth_tui.scene import Scene, SceneObject
+from cloth_tui.scene import SceneObject
 from cloth_tui.sim import colliders
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Simulation
-
-
-def scene(**overrides):
-    s = Scene()
-    for dotted, value in overrides.items():
-        s = s.with_value(dotted.replace("__", "."), value)
-    return s
-
-
-def run(sim, frames):
-    for _ in range(frames):
-        sim.advance_frame()
-    return sim
+from .helpers import run, scene
 
 
 def one_particle_model():
@@ -204,3 +192,11 @@ def test_plane_holds_a_rising_sheet_below_it():
 def test_tilted_plane_normal_is_20_degrees_from_vertical():
     n = np.array(colliders.single_object("plane")["normal"])
     assert math.degrees(math.acos(n[1] / np.linalg.norm(n))) == pytest.approx(20.0)
+
+
+def test_plane_penetration_with_pinned_particles():
+    # Found by the soak test: the plane's per-particle sides were matched against the free
+    # particles only, which broke as soon as any particle was pinned.
+    sim = run(Simulation(scene(scene__object="plane", cloth__pinned="corners",
+                               cloth__resolution=10)), 30)
+    assert sim.step.penetration(sim.state.x) <= sim.scene.scene.thickness + 1e-3

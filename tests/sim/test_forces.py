@@ -10,19 +10,7 @@ from cloth_tui.sim import forces
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.state import ClothState
-
-
-def scene(**overrides):
-    s = Scene()
-    for dotted, value in overrides.items():
-        s = s.with_value(dotted.replace("__", "."), value)
-    return s
-
-
-def run(sim, frames):
-    for _ in range(frames):
-        sim.advance_frame()
-    return sim
+from .helpers import run, scene
 
 
 def model_and_state(**overrides):

@@ -3,18 +3,12 @@
 import numpy as np
 import pytest
 
-from cloth_tui.scene import Scene
+
 from cloth_tui.sim import impulses
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.state import ClothState
-
-
-def scene(**overrides):
-    s = Scene()
-    for dotted, value in overrides.items():
-        s = s.with_value(dotted.replace("__", "."), value)
-    return s
+from .helpers import scene
 
 
 def rainy(**overrides):

@@ -5,13 +5,7 @@ import pytest
 
 from cloth_tui.scene import Scene
 from cloth_tui.sim.runner import Simulation
-
-
-def scene(**overrides):
-    s = Scene()
-    for dotted, value in overrides.items():
-        s = s.with_value(dotted.replace("__", "."), value)
-    return s
+from .helpers import scene
 
 
 def test_free_fall_matches_half_g_t_squared():
