@@ -62,3 +62,40 @@ def test_bad_input_exits_2_with_one_line(tmp_path, content, args):
 def test_scenes_lists_builtins(capsys):
     assert main(["scenes"]) == 0
     assert "default" in capsys.readouterr().out
+
+
+BAD_SCENES = {
+    "syntax": "[cloth\n",
+    "unknown_key": "[cloth]\nfoo = 1\n",
+    "wrong_type": "[cloth]\nsize = true\n",
+    "nan": "[cloth]\nsize = nan\n",
+    "infinity": "[forces]\ngravity_strength = inf\n",
+    "negative_size": "[cloth]\nsize = -1.0\n",
+    "absurd_resolution": "[cloth]\nresolution = 100000\n",
+    "zero_direction": "[forces]\nwind_direction = [0, 0, 0]\n",
+    "unknown_object": "[[objects]]\ntype = \"torus\"\n",
+    "binary": b"\x00\x01\xff\xfe garbage",
+}
+
+
+@pytest.mark.parametrize("command", ["app", "simulate", "render"])
+@pytest.mark.parametrize("case", sorted(BAD_SCENES))
+def test_every_command_refuses_bad_scenes_with_one_line(tmp_path, command, case):
+    path = tmp_path / "bad.toml"
+    data = BAD_SCENES[case]
+    path.write_bytes(data if isinstance(data, bytes) else data.encode())
+    args = {"app": [str(path)], "simulate": ["simulate", str(path)],
+            "render": ["render", str(path), "-o", str(tmp_path / "x.png")]}[command]
+    rc, out, err = run(*args)
+    assert rc == 2, (rc, err)
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("command", ["app", "simulate", "render"])
+@pytest.mark.parametrize("override", ["cloth.size", "nosection=1", "cloth.nope=1",
+                                      "cloth.resolution=2.5", "forces.wind=maybe"])
+def test_every_command_refuses_malformed_set(tmp_path, command, override):
+    args = {"app": ["default"], "simulate": ["simulate", "default"],
+            "render": ["render", "default", "-o", str(tmp_path / "x.png")]}[command]
+    rc, out, err = run(*args, "--set", override)
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
