@@ -74,6 +74,7 @@ class Simulation:
             self.model = build_model(scene.cloth, scene.behavior)
             self.state = ClothState.from_model(self.model)
             self.penetration = 0.0
+            self._free = self.model.inv_mass > 0.0  # pins move as prescribed, however fast
         self.step = pipeline.build(scene, self.model)
         self._guard_level = 0
         self._good = self.state.copy()
@@ -122,8 +123,7 @@ class Simulation:
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
-        free = self.model.inv_mass > 0.0  # pins move as prescribed (the wave), however fast
-        if float(np.max(np.abs(self.state.v[free]), initial=0.0)) > 4.0 * b.max_speed:
+        if float(np.max(np.abs(self.state.v[self._free]), initial=0.0)) > 4.0 * b.max_speed:
             return False
         return b.solver != "springs" or stretch(self.model, self.state.x)[0] <= SPRING_DIVERGED
 
