@@ -96,6 +96,33 @@ def pick_nearest(matrix: np.ndarray, positions: np.ndarray, u: float, v: float,
     return int(near[np.argmin(ndc[near, 2])])
 
 
+def view_plane_delta(matrix: np.ndarray, point: np.ndarray, du: float, dv: float
+                     ) -> np.ndarray | None:
+    """The world displacement that moves `point`'s projection by (du, dv) image fractions
+    (v downward) while keeping its depth: the motion lies in the plane through `point`
+    perpendicular to the view direction. `matrix` is the world → clip transform of a render.
+    None if the point is behind the camera or the result is not finite."""
+    if matrix is None or point is None:
+        return None
+    p = np.asarray(point, dtype=np.float64)
+    if p.shape != (3,) or not (np.isfinite(p).all() and np.isfinite([du, dv]).all()):
+        return None
+    h = matrix @ np.r_[p, 1.0]
+    if not h[3] > 1e-9:
+        return None
+    ndc = h[:3] / h[3]
+    # Same NDC depth = same eye-space depth for a perspective (or orthographic) projection.
+    moved = np.array([ndc[0] + 2.0 * du, ndc[1] - 2.0 * dv, ndc[2], 1.0])
+    try:
+        world = np.linalg.solve(matrix, moved)
+    except np.linalg.LinAlgError:
+        return None
+    if not abs(world[3]) > 1e-12:
+        return None
+    delta = world[:3] / world[3] - p
+    return delta if np.isfinite(delta).all() else None
+
+
 def matrix_aspect(matrix: np.ndarray) -> float:
     """Width/height of the image a perspective world → clip matrix was made for (rows 0 and 1
     of the projection scale x and y by f/aspect and f)."""

@@ -3,8 +3,9 @@ the cloth in the original's look: red sheet above a bluish ground fading into li
 four corner poles, translucent objects.
 
 Not thread-safe and bound to its creating thread (VTK's GL context is): in the app only the
-render service's thread uses it. `pick` is the exception: it reads the camera matrix and
-positions saved after the last render, in NumPy, so any thread may call it.
+render service's thread uses it. `pick` and `screen_delta_to_world` are the exceptions: they
+read the camera matrix and positions saved after the last render, in NumPy, so any thread may
+call them.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ import numpy as np
 
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        family_colors, grid_uv, hex_rgb,
-                       pick_nearest, triangle_edges, vertex_normals)
+                       pick_nearest, triangle_edges, vertex_normals,
+                       view_plane_delta)
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
@@ -253,6 +255,24 @@ class Renderer:
         if state is None or not (math.isfinite(u) and math.isfinite(v)):
             return None
         return pick_nearest(state[0], state[1], u, v)
+
+    def screen_delta_to_world(self, particle: int, du: float, dv: float
+                              ) -> tuple[float, float, float] | None:
+        """The world motion, in the camera's view plane at `particle`'s depth in the last
+        frame, that moves its projection by (du, dv) image fractions (v downward). None
+        before the first render or for an unknown particle. Safe from any thread."""
+        state = self._pick_state
+        if state is None:
+            return None
+        matrix, positions = state
+        try:
+            k = int(particle)
+        except (TypeError, ValueError):
+            return None
+        if not 0 <= k < len(positions):
+            return None
+        d = view_plane_delta(matrix, positions[k], float(du), float(dv))
+        return None if d is None else (float(d[0]), float(d[1]), float(d[2]))
 
     def close(self) -> None:
         if self.plotter is not None:

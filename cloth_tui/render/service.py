@@ -143,6 +143,14 @@ class RenderService:
         r = self._renderer
         return r.pick(u, v) if r is not None else None
 
+    def screen_delta_to_world(self, particle: int, du: float, dv: float
+                              ) -> tuple[float, float, float] | None:
+        """World displacement, in the camera's view plane at `particle`'s depth in the last
+        frame, that moves its picture by (du, dv) image fractions (v downward); None before
+        the first frame. Like `pick`: NumPy on saved matrices, safe and cheap from any thread."""
+        r = self._renderer
+        return r.screen_delta_to_world(particle, du, dv) if r is not None else None
+
     def _command(self, fn: Callable[[], bool]) -> None:
         self._commands.append(fn)
         self._wake.set()

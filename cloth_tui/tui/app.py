@@ -198,11 +198,19 @@ class ClothApp(App):
         self._grabbed = self.renderer.pick(message.u, message.v) if self.renderer else None
 
     def on_preview_drag(self, message: Preview.Drag) -> None:
+        """Move the grabbed particle with the pointer: in the camera's view plane at its
+        depth, so the drag follows any orbit (the renderer's last camera, NumPy only). Before
+        a first frame, a fixed front-view scale."""
         if self._grabbed is None:
             return
-        span = VIEW_SPAN * self.scene.cloth.size / self._zoom
-        aspect = message.width_px / max(message.height_px, 1)
-        self._bump(self._grabbed, (message.du * span * aspect, -message.dv * span, 0.0))
+        d = None
+        if self.renderer is not None:
+            d = self.renderer.screen_delta_to_world(self._grabbed, message.du, message.dv)
+        if d is None:
+            span = VIEW_SPAN * self.scene.cloth.size / self._zoom
+            aspect = message.width_px / max(message.height_px, 1)
+            d = (message.du * span * aspect, -message.dv * span, 0.0)
+        self._bump(self._grabbed, d)
 
     def on_preview_release(self, _: Preview.Release) -> None:
         self._grabbed = None

@@ -79,6 +79,43 @@ def test_pick_from_the_ui_thread(service):
     assert service.pick(0.5, 0.3) in range(snap.model.num_particles)
 
 
+def test_screen_delta_follows_an_orbited_camera(service):
+    """A drag's world motion lies in the view plane at the particle's depth and moves the
+    particle's picture by exactly (du, dv), whatever the orbit."""
+    import math
+    snap = draped(scene_with(), sag=0.1)
+    k = snap.model.n * (snap.model.n // 2) + 3
+    assert service.screen_delta_to_world(k, 0.1, 0.0) is None  # nothing drawn yet
+    service.orbit(70, 25)
+    service.submit(snap)
+    service.got.frames.get(timeout=30)
+    r = service._renderer
+    az, el = math.radians(r.azimuth), math.radians(r.elevation)
+    assert abs(r.azimuth - 104) < 1e-9  # home 34° + 70°: seen from the other side
+    view = -np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])
+    m, positions = r._pick_state
+
+    def project(x):
+        h = m @ np.r_[x, 1.0]
+        return np.array([(h[0] / h[3] + 1) / 2, (1 - h[1] / h[3]) / 2, h[3]])
+
+    p = positions[k]
+    for du, dv in ((0.1, 0.0), (0.0, -0.05), (-0.03, 0.07)):
+        d = np.array(service.screen_delta_to_world(k, du, dv))
+        assert np.linalg.norm(d) > 1e-3
+        assert abs(d @ view) < 1e-9 * max(1.0, np.linalg.norm(d))  # perpendicular
+        before, after = project(p), project(p + d)
+        assert after[:2] == pytest.approx(before[:2] + (du, dv), abs=1e-9)
+        assert after[2] == pytest.approx(before[2])  # same depth
+    # screen right is the camera's right: up × back, not world +x, after the orbit
+    right = np.cross(view, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    d = np.array(service.screen_delta_to_world(k, 0.1, 0.0))
+    assert d @ right > 0.9 * np.linalg.norm(d) and d[0] < 0  # azimuth 104°: +x is leftish
+    assert service.screen_delta_to_world(snap.model.num_particles, 0.1, 0.0) is None
+    assert service.screen_delta_to_world(k, math.nan, 0.0) is None
+
+
 def test_recording_makes_a_video(service):
     got = service.got
     service.submit(draped(scene_with()))

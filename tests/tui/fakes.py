@@ -104,6 +104,14 @@ class FakeRenderService:
         pu, pv = self._project(self.snapshot.positions)
         return int(np.argmin((pu - u) ** 2 + (pv - v) ** 2))
 
+    def screen_delta_to_world(self, particle, du, dv):
+        """The fake's orthographic front view spans 2·size metres both ways."""
+        if self.snapshot is None or not 0 <= int(particle) < len(self.snapshot.positions):
+            return None
+        span = 2 * self.scene.cloth.size
+        self.calls.append(("screen_delta_to_world", particle, du, dv))
+        return (du * span, -dv * span, 0.0)
+
     # -- helpers --------------------------------------------------------------------------
     def _event(self, ev):
         if self.on_event is not None:

@@ -186,6 +186,9 @@ def test_bumps_crosshair_drag_and_preview(tmp_path):
             y0 = app.sim.latest.positions[grabbed][1]
             await pilot.hover("#preview", offset=(wd // 2, 10))
             await until(pilot, lambda: app.sim.latest.positions[grabbed][1] > y0 + 0.01)
+            # through the camera (the renderer's view plane), not a fixed scale
+            drags = [c for c in app.renderer.calls if c[0] == "screen_delta_to_world"]
+            assert drags and drags[-1][1] == grabbed and drags[-1][3] < 0
             await pilot.mouse_up("#preview", offset=(wd // 2, 10))
             assert app._grabbed is None
     run(go())
