@@ -1,5 +1,6 @@
 """The app with the real RenderService (VTK off-screen): frames reach the preview, `i` writes a
-PNG, `v` … `v` writes an MP4, an arrow bumps the particle under the crosshair, `q` quits.
+PNG, `v` … `v` writes an MP4, an arrow bumps the particle under the crosshair, a drag from
+behind the sheet follows the camera, `q` quits.
 Skipped when the renderer cannot start here (no GL)."""
 
 import time
@@ -41,6 +42,20 @@ def test_real_renderer_end_to_end(tmp_path):
             y0 = app.sim.latest.positions[target][1]
             await pilot.press("up")
             await until(pilot, lambda: app.sim.latest.positions[target][1] > y0 + 0.04)
+            # seen from behind (orbit 180°), dragging right pulls the particle towards -x
+            az = app.renderer._renderer.azimuth
+            app.renderer.orbit(180, 0)
+            await until(pilot, lambda: abs(app.renderer._renderer.azimuth - az) > 1)
+            await pilot.pause(0.3)  # the redraw that saves the orbited camera for picking
+            assert app._place_crosshair()
+            cx, cy = app.preview._cell(app.preview.crosshair)
+            await pilot.mouse_down("#preview", offset=(cx, cy))
+            grabbed = app._grabbed
+            assert grabbed is not None
+            x0 = app.sim.latest.positions[grabbed].copy()
+            await pilot.hover("#preview", offset=(cx + 8, cy))
+            await until(pilot, lambda: app.sim.latest.positions[grabbed][0] < x0[0] - 0.02)
+            await pilot.mouse_up("#preview", offset=(cx + 8, cy))
             t0 = time.monotonic()
             await pilot.press("q")
         assert time.monotonic() - t0 < 2.0
