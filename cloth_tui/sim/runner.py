@@ -24,7 +24,8 @@ MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fracti
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
                                         "tethers", "wave")}
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
-MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
+MAX_GUARD_LEVEL = 4
+MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time  # a diverging frame is retried with up to 2**4 = 16× the substeps
 
 
 def stretch(model: ClothModel, x: np.ndarray) -> tuple[float, float]:
@@ -244,20 +245,32 @@ class SimulationThread:
             self.on_snapshot(snap)
 
     def _run(self) -> None:
-        next_t = time.perf_counter()
+        """Frames are due every 1/frame_rate s of wall time. A late thread (the GIL held by the
+        renderer or the UI, a slow frame) catches up with up to MAX_CATCH_UP frames at once,
+        so the simulation keeps real time; further behind than that, it drops the backlog
+        rather than run ever faster."""
+        next_t = time.perf_counter()  # when the next frame is due
         try:
             while not self._stop.is_set():
                 changed = False
                 while self._commands:
                     self._commands.popleft()(self.sim)
                     changed = True
-                if not self.paused:
-                    self.sim.advance_frame()
-                    changed = True
+                now = time.perf_counter()
+                if self.paused:
+                    next_t = now
+                else:
+                    period = 1.0 / self.sim.scene.behavior.frame_rate
+                    for _ in range(MAX_CATCH_UP):
+                        if now < next_t:
+                            break
+                        self.sim.advance_frame()
+                        next_t += period
+                        changed = True
+                    if now >= next_t:
+                        next_t = now + period
                 if changed:
                     self._publish()
-                period = 1.0 / self.sim.scene.behavior.frame_rate
-                next_t = max(next_t + period, time.perf_counter() - period)
                 wait = next_t - time.perf_counter() if not self.paused else 0.25
                 if wait > 0:
                     self._wake.wait(wait)
