@@ -27,9 +27,9 @@ import numpy as np
 from ..scene import Scene
 from ..sim import pipeline
 from ..sim.model import build_model
-from ..sim.springs import ORDERS, spring_energy
+from ..sim.runner import energy, stretch
+from ..sim.springs import ORDERS
 from ..sim.state import ClothState
-from ..sim.xpbd import compliant_energy
 
 INTEGRATORS = tuple(ORDERS)           # springs integrators, in the order of the tables
 BLOWUP_STRETCH = 1.0                  # |L/L0 − 1| beyond which a run counts as blown up
@@ -150,25 +150,6 @@ def study_model(scene: Scene, pinned: str = "two_corners"):
     return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass, **extra)
 
 
-def energy(model, state, scene) -> float:
-    """Kinetic + gravitational + elastic energy, J (elastic: springs k, xpbd 1/α, pbd none)."""
-    m = model.mass
-    e = 0.5 * float(np.dot(m, np.einsum("ij,ij->i", state.v, state.v)))
-    e += scene.forces.gravity_strength * float(np.dot(m, state.x[:, 1]))
-    b = scene.behavior
-    if b.solver == "springs":
-        e += spring_energy(state.x, model.edges, model.rest_length, b.stiffness)
-    elif b.solver == "xpbd":
-        e += compliant_energy(state.x, model.edges, model.rest_length, b.compliance)
-    return e
-
-
-def max_stretch(model, x) -> float:
-    e = model.edges
-    d = x[e[:, 0]] - x[e[:, 1]]
-    return float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / model.rest_length - 1)))
-
-
 @dataclass
 class Run:
     x: np.ndarray | None      # final positions (None when unstable)
@@ -191,7 +172,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.size
     x0 = state.x.copy()
     limit = BLOWUP_DISTANCE * model.size
-    stretch, stable = 0.0, True
+    worst, stable = 0.0, True
     rates = []  # wall time per substep of each chunk between checks
     done = 0
     cpu0 = time.thread_time()
@@ -207,8 +188,8 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
             if not state.is_finite():
                 stable = False
                 break
-            s = max_stretch(model, x)
-            stretch = max(stretch, s)
+            s = stretch(model, x)[0]
+            worst = max(worst, s)
             if s > BLOWUP_STRETCH or float(np.max(np.abs(x - x0))) > limit:
                 stable = False
                 break
@@ -217,7 +198,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     # Other processes share the cores and preempt some chunks: the cost of a substep is the
     # lower quartile of the chunks' rates, which such interruptions do not reach.
     wall = float(np.percentile(rates, 25)) * steps if rates else 0.0
-    return Run(state.x.copy() if stable else None, stable, wall, stretch if stable else math.inf,
+    return Run(state.x.copy() if stable else None, stable, wall, worst if stable else math.inf,
                drift, done, cpu)
 
 

@@ -38,11 +38,21 @@ def stretch(model: ClothModel, x: np.ndarray) -> tuple[float, float]:
     return float(r.max()), float(r.mean())
 
 
-def energy(model: ClothModel, state: ClothState, g: float) -> float:
-    """Kinetic plus gravitational energy (height measured from y = 0), J."""
+def energy(model: ClothModel, state: ClothState, scene: Scene) -> float:
+    """Kinetic + gravitational (height from y = 0) + elastic energy, J. Elastic: springs of
+    stiffness k, xpbd constraints of compliance α (stiffness 1/α); pbd's rigid constraints
+    store none."""
     m = model.mass
-    kinetic = 0.5 * float(np.dot(m, np.einsum("ij,ij->i", state.v, state.v)))
-    return kinetic + g * float(np.dot(m, state.x[:, 1]))
+    e = 0.5 * float(np.dot(m, np.einsum("ij,ij->i", state.v, state.v)))
+    if scene.forces.gravity:
+        e += scene.forces.gravity_strength * float(np.dot(m, state.x[:, 1]))
+    b = scene.behavior
+    k = b.stiffness if b.solver == "springs" else \
+        1.0 / b.compliance if b.solver == "xpbd" and b.compliance > 0 else 0.0
+    if k and model.num_constraints:
+        from .springs import spring_energy
+        e += spring_energy(state.x, model.edges, model.rest_length, k)
+    return e
 
 
 @dataclass(frozen=True)
@@ -166,7 +176,6 @@ class Simulation:
         x = self.state.x
         finite = self.state.is_finite()
         max_s, mean_s = stretch(self.model, x) if finite else (float("nan"),) * 2
-        g = self.scene.forces.gravity_strength if self.scene.forces.gravity else 0.0
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
         return {
             "particles": self.model.num_particles,
@@ -179,7 +188,7 @@ class Simulation:
             "max_speed": float(speed.max()),
             "max_stretch": max_s,
             "mean_stretch": mean_s,
-            "energy": energy(self.model, self.state, g),
+            "energy": energy(self.model, self.state, self.scene),
             "penetration": self.penetration,
             "effects": self.step.names,
             "recoveries": self.recoveries,

@@ -83,23 +83,6 @@ def project_xpbd_constraints_parallel(x, inv_mass, edges, rest, color_offsets, l
                                min(hi, lo + (k + 1) * block))
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def compliant_energy(x, edges, rest, alpha):
-    """Elastic energy Σ C²/(2α) of the constraints, J (0 for rigid constraints)."""
-    if alpha <= 0.0:
-        return 0.0
-    total = 0.0
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        c = math.sqrt(dx * dx + dy * dy + dz * dz) - rest[e]
-        total += c * c
-    return 0.5 * total / alpha
-
-
 class ProjectXPBDConstraints:
     name = "project_xpbd_constraints"
 
