@@ -153,6 +153,19 @@ def _spring_jacobian(x, edges, rest, dirs, tension):
         tension[e] = max(0.0, 1.0 - rest[e] / L)
 
 
+@njit(nogil=True, cache=True, fastmath=True, inline="always")
+def _spring_block_product(p, a, b, nx, ny, nz, s, ck, cd):
+    """One spring's block of the system times (p_a − p_b):
+    (ck·[n nᵀ + s (I − n nᵀ)] + cd·n nᵀ)(p_a − p_b), the stiffness part with the transverse
+    term s clamped to tension, the damping part along the spring only."""
+    ux = p[a, 0] - p[b, 0]
+    uy = p[a, 1] - p[b, 1]
+    uz = p[a, 2] - p[b, 2]
+    nu = nx * ux + ny * uy + nz * uz
+    axial = ck * (1.0 - s) * nu + cd * nu
+    return ck * s * ux + axial * nx, ck * s * uy + axial * ny, ck * s * uz + axial * nz
+
+
 @njit(nogil=True, cache=True, fastmath=True)
 def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
     """y = A p with A = diag_mass − ck·K̂ − cd·D̂ on the free particles, identity on pinned.
@@ -169,18 +182,8 @@ def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
     for e in range(edges.shape[0]):
         a = edges[e, 0]
         b = edges[e, 1]
-        nx = dirs[e, 0]
-        ny = dirs[e, 1]
-        nz = dirs[e, 2]
-        s = tension[e]
-        ux = p[a, 0] - p[b, 0]
-        uy = p[a, 1] - p[b, 1]
-        uz = p[a, 2] - p[b, 2]
-        nu = nx * ux + ny * uy + nz * uz
-        axial = ck * (1.0 - s) * nu + cd * nu
-        wx = ck * s * ux + axial * nx
-        wy = ck * s * uy + axial * ny
-        wz = ck * s * uz + axial * nz
+        wx, wy, wz = _spring_block_product(p, a, b, dirs[e, 0], dirs[e, 1], dirs[e, 2],
+                                           tension[e], ck, cd)
         if free[a]:
             y[a, 0] += wx
             y[a, 1] += wy
@@ -214,15 +217,8 @@ def solve_implicit_euler(x, v, accel, mass, free, edges, rest, k, kd, drag, h,
         ny = dirs[e, 1]
         nz = dirs[e, 2]
         s = tension[e]
-        ux = v[a, 0] - v[b, 0]
-        uy = v[a, 1] - v[b, 1]
-        uz = v[a, 2] - v[b, 2]
-        nu = nx * ux + ny * uy + nz * uz
-        axial = ck * (1.0 - s) * nu
         # h² (K v)_a = −h² k [n nᵀ + s (I − n nᵀ)] (v_a − v_b)
-        wx = ck * s * ux + axial * nx
-        wy = ck * s * uy + axial * ny
-        wz = ck * s * uz + axial * nz
+        wx, wy, wz = _spring_block_product(v, a, b, nx, ny, nz, s, ck, 0.0)
         dxx = ck * (s + (1.0 - s) * nx * nx) + cd * nx * nx
         dyy = ck * (s + (1.0 - s) * ny * ny) + cd * ny * ny
         dzz = ck * (s + (1.0 - s) * nz * nz) + cd * nz * nz
