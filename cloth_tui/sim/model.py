@@ -43,9 +43,6 @@ class ClothModel:
     def spacing(self) -> float:
         return self.size / (self.n - 1)
 
-    def index(self, i: int, j: int) -> int:
-        return i * self.n + j
-
 
 def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
     """Constraint pairs of an n×n grid for the enabled families, and each pair's family."""

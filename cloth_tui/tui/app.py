@@ -65,7 +65,6 @@ class ClothApp(App):
         self._crosshair_placed = False
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
-        self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
 
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -152,8 +151,6 @@ class ClothApp(App):
                               f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
-        if self.key_log and self.key_log[-1][0] != "shown":
-            self.key_log.append(("shown", time.perf_counter()))
 
     def _place_crosshair(self) -> bool:
         """Put the crosshair on the particle nearest the middle of the sheet, by picking a
@@ -276,10 +273,8 @@ class ClothApp(App):
         return True
 
     def _log_key(self, what: str) -> None:
-        self.key_log.append((what, time.perf_counter()))
         if self._debug is not None:
-            self._debug.write(f"{self.key_log[-1][1]:.4f} key {what}\n")
-        del self.key_log[:-200]
+            self._debug.write(f"{time.perf_counter():.4f} key {what}\n")
 
     def action_pause(self) -> None:
         if self.sim is not None:
