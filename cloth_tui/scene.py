@@ -18,12 +18,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .texture_names import BUILTIN_TEXTURES
+
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
 SCENES_DIR = ASSETS_DIR / "scenes"
 TEXTURES_DIR = ASSETS_DIR / "textures"
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
+TEXTURE_DOC = f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path"
 
 
 class SceneError(ValueError):
@@ -157,10 +160,8 @@ class Appearance:
     ground_color: str = key("#404761", "ground colour", kind="color")
     ground_emissive: str = key("#000000", "ground emission colour", kind="color")
     fog_color: str = key("#cce0ff", "background / fog colour", kind="color")
-    cloth_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
-                             kind="texture")
-    ground_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
-                              kind="texture")
+    cloth_texture: str = key("none", TEXTURE_DOC, kind="texture")
+    ground_texture: str = key("none", TEXTURE_DOC, kind="texture")
 
 
 @dataclass
@@ -297,7 +298,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
 
 
 def _check_texture(value: str, bad) -> None:
-    if value in ("none", "maze", "grass"):
+    if value == "none" or value in BUILTIN_TEXTURES:
         return
     if not value.lower().endswith(".png"):
         raise bad()

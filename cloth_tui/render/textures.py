@@ -12,8 +12,6 @@ import numpy as np
 
 from ..scene import TEXTURES_DIR
 
-BUILTIN = ("maze", "grass")
-
 
 def maze_image(cells: int = 16, cell_px: int = 8, seed: int = 426) -> np.ndarray:
     """A perfect maze (randomised depth-first search), dark walls on a light floor, RGB uint8.
