@@ -24,8 +24,11 @@ MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fracti
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
                                         "tethers", "wave")}
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
-MAX_GUARD_LEVEL = 4
-MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time  # a diverging frame is retried with up to 2**4 = 16× the substeps
+MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
+GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
+RUNAWAY_SPEED = 4.0  # × behavior.max_speed: a free particle this fast means divergence
+MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
+PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
 
 
 def stretch(model: ClothModel, x: np.ndarray) -> tuple[float, float]:
@@ -115,7 +118,7 @@ class Simulation:
         self.step.frame(self.state)
         while not self._healthy() and not self.halted:
             self._recover()
-        if self._guard_level and self.frames % 60 == 0:
+        if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0:
             self._guard_level -= 1  # try the scene's own substeps again now and then
             self.step = pipeline.build(self.scene, self.model,
                                        self.scene.behavior.substeps << self._guard_level)
@@ -134,7 +137,7 @@ class Simulation:
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
-        if float(np.max(np.abs(self.state.v[self._free]), initial=0.0)) > 4.0 * b.max_speed:
+        if float(np.max(np.abs(self.state.v[self._free]), initial=0.0)) > RUNAWAY_SPEED * b.max_speed:
             return False
         return b.solver != "springs" or stretch(self.model, self.state.x)[0] <= SPRING_DIVERGED
 
@@ -280,7 +283,7 @@ class SimulationThread:
                         next_t = now + period
                 if changed:
                     self._publish()
-                wait = next_t - time.perf_counter() if not self.paused else 0.25
+                wait = next_t - time.perf_counter() if not self.paused else PAUSED_POLL_S
                 if wait > 0:
                     self._wake.wait(wait)
                     self._wake.clear()
