@@ -105,7 +105,8 @@ class Preview(Widget):
             self.u, self.v = u, v
 
     class Drag(Message):
-        """The grabbed point moved by (du, dv) image fractions; (dx_px, dy_px) in pixels."""
+        """The grabbed point moved by (du, dv) image fractions, on a preview of
+        (width_px, height_px) half-block pixels (its columns and twice its rows)."""
 
         def __init__(self, du: float, dv: float, width_px: int, height_px: int) -> None:
             super().__init__()

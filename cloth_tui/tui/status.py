@@ -1,4 +1,4 @@
-"""The status line: rates, step cost, stretch and energy, a sparkline of ms per step and the
+"""The status line: rates, step cost, stretch and energy, a sparkline of ms per frame and the
 recording mark. `Readout` is plain Python (no Textual) so the numbers are testable alone."""
 
 from __future__ import annotations
@@ -117,7 +117,7 @@ class StatusBar(Vertical):
         self._text = Static("starting…", id="status-text")
         self._cost = Static("", id="cost-text")
         self._spark = Sparkline([0.0], id="ms-spark", summary_function=max)
-        self._spark.tooltip = "ms per simulation step, last 60 frames"
+        self._spark.tooltip = "simulation ms per frame, last 80 frames (a bar: its worst)"
         yield self._text
         with Horizontal(id="cost-row"):
             yield self._cost
