@@ -116,7 +116,7 @@ def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> 
 def grid_triangles(n: int) -> np.ndarray:
     idx = np.arange(n * n).reshape(n, n)
     a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
-    # Every cell is split along the same diagonal, (i, j+1)–(i+1, j), not an alternating one.
+    # One diagonal, (i, j+1)–(i+1, j), in every cell (alternating would change images and wind)
     t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
     t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
     return np.concatenate([t1, t2]).astype(np.int64)

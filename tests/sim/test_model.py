@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.model import BENDING, SHEAR, STRUCTURAL, build_model, pinned_indices
+from cloth_tui.sim.model import (BENDING, SHEAR, STRUCTURAL, build_model, grid_triangles,
+                                 pinned_indices)
 
 
 def model_for(**cloth):
@@ -66,3 +67,18 @@ def test_pinned_particles_have_zero_inverse_mass_and_mass_sums():
     m = model_for(resolution=8, mass=0.4)
     assert np.all(m.inv_mass[m.pinned] == 0)
     assert m.mass.sum() == pytest.approx(0.4)
+
+
+def test_every_cell_is_split_along_the_same_diagonal():
+    n = 5
+    tris = grid_triangles(n)
+    assert len(tris) == 2 * (n - 1) ** 2
+    diagonals = set()
+    for i in range(n - 1):
+        for j in range(n - 1):
+            corners = {i * n + j, i * n + j + 1, (i + 1) * n + j, (i + 1) * n + j + 1}
+            halves = [set(t) for t in tris if set(t) <= corners]
+            assert len(halves) == 2 and halves[0] | halves[1] == corners
+            shared = halves[0] & halves[1]
+            diagonals.add(tuple(sorted((a // n - i, a % n - j) for a in shared)))
+    assert diagonals == {((0, 1), (1, 0))}  # (i, j+1)–(i+1, j) everywhere
