@@ -95,8 +95,11 @@ class SceneObject:
     type: str = key("sphere", "shape of the object", choices=OBJECT_TYPES)
     center: list = vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)", unit="m")
     radius: float = key(0.25, "radius (sphere, capsule)", unit="m", lo=0.0, lo_open=True, hi=1e3)
-    size: list = vec3([0.5, 0.2, 0.5], "box sides; capsule: size[1] is the axis length", unit="m")
-    normal: list = vec3([0.0, 1.0, 0.0], "plane normal; capsule axis", nonzero=True)
+    size: list = vec3([0.5, 0.2, 0.5], "box sides", unit="m")
+    normal: list = vec3([0.0, 1.0, 0.0], "plane normal", nonzero=True)
+    axis: list = vec3([1.0, 0.0, 0.0], "capsule axis direction", nonzero=True)
+    length: float = key(0.5, "capsule: length of its axis segment (the cylinder part)", unit="m",
+                        lo=0.0, hi=1e3)
     friction: float = key(-1.0, "friction 0–1 (−1: use scene.friction)", lo=-1.0, hi=1.0)
     motion: str = key("static", "static, or orbit (the original's slow circle)",
                       choices=("static", "orbit"))
@@ -318,6 +321,12 @@ def validate(scene: Scene) -> None:
                          f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
                          f"2π·amplitude·frequency must not exceed behavior.max_speed = "
                          f"{b.max_speed:g} m/s")
+    default = SceneObject()
+    for i, o in enumerate(scene.objects):
+        if o.type == "capsule" and (o.normal != default.normal or o.size != default.size):
+            raise SceneError(f"objects[{i}]: a capsule takes `axis` (direction) and `length` "
+                             "(m), not `normal` and `size` (older files put the axis in normal "
+                             "and the length in size[1]); move them to axis and length")
     n = scene.cloth.resolution
     if b.self_collision == "naive" and n > 128:
         raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "

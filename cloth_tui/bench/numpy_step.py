@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..sim.model import ClothModel
-from ..sim.solvers import damping_factor
+from ..sim.stages import damping_factor
 
 
 def _slice_pairs(n: int, families: tuple[bool, bool, bool]) -> list[tuple]:

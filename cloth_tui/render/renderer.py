@@ -231,7 +231,7 @@ class Renderer:
         else:
             self._update_cloth(positions)
         self._positions = positions
-        self.objects.update(getattr(snapshot, "objects", ()))
+        self.objects.update(snapshot.objects)
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0

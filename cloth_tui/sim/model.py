@@ -164,7 +164,7 @@ def build_model(cloth, behavior) -> ClothModel:
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
     pins = pinned_indices(n, cloth.pinned, behavior.seed, cloth.pin_fraction)
-    if getattr(behavior, "wave", False):
+    if behavior.wave:
         # The wave drives the near edge (row n−1) and holds the far edge (row 0): both pinned.
         pins = np.union1d(pins, np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)]))
     mass = np.full(n * n, cloth.mass / (n * n))

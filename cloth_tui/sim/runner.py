@@ -203,7 +203,7 @@ class Simulation:
         }
 
     def snapshot(self) -> Snapshot:
-        poses = tuple(c.pose(self.state.t) for c in self.step.colliders if hasattr(c, "pose"))
+        poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
         return Snapshot(self.state.x.copy(), self.frames, self.state.t, self.stats(),
                         self.model, self.scene, poses)
 

@@ -24,8 +24,8 @@ BAD_PIXEL = 48
 
 OBJECTS = (ObjectPose("sphere", (-0.3, -0.3, 0.2), radius=0.2),
            ObjectPose("box", (0.3, -0.4, -0.2), size=(0.3, 0.2, 0.3)),
-           ObjectPose("capsule", (0.3, -0.3, 0.35), radius=0.08, size=(0, 0.3, 0),
-                      normal=(1.0, 0.0, 0.0)),
+           ObjectPose("capsule", (0.3, -0.3, 0.35), radius=0.08, axis=(1.0, 0.0, 0.0),
+                      length=0.3),
            ObjectPose("plane", (0.0, -0.45, -0.5), normal=(0.0, 0.3, 1.0)))
 
 CASES = {
