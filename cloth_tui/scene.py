@@ -12,11 +12,12 @@ import dataclasses
 import math
 import os
 import re
-import tempfile
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
@@ -425,15 +426,13 @@ def load(ref: str | os.PathLike) -> Scene:
 
 
 def save(scene: Scene, path: str | os.PathLike) -> Path:
-    """Write atomically: a temp file in the same folder, then rename."""
+    """Write atomically (util.atomic_write), with the permissions the umask gives."""
     path = Path(path)
     text = dumps(scene)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        with atomic_write(path, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.replace(tmp, path)
     except OSError as e:
         raise SceneError(f"cannot write {path}: {e.strerror}") from None
     return path
