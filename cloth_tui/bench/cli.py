@@ -62,11 +62,12 @@ def self_collision_cost(sizes: list[int], quick: bool) -> list[dict]:
     return rows
 
 
-def run_bench(args, load_scene) -> int:
+def run_bench(args) -> int:
     quick = args.quick
     result: dict = {"machine": machine()}
     if args.breakdown:
-        scene = load_scene(args.breakdown, [])
+        from ..scene import load
+        scene = load(args.breakdown)
         result["breakdown"] = bd.breakdown(scene, frames=60 if quick else 240)
     sizes = [26, 64, 128] if quick else [26, 64, 128, 256]
     steps = []
