@@ -20,9 +20,6 @@ from typing import Any
 from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
-ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
-SCENES_DIR = ASSETS_DIR / "scenes"
-TEXTURES_DIR = ASSETS_DIR / "textures"
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
 
@@ -403,7 +400,8 @@ def loads(text: str, name: str = "scene") -> Scene:
 
 
 def builtin_scenes() -> dict[str, Path]:
-    return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
+    from .resources import builtin_scenes as found
+    return found()
 
 
 def load(ref: str | os.PathLike) -> Scene:

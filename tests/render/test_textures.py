@@ -5,12 +5,12 @@ import numpy as np
 
 from cloth_tui.render.textures import (GENERATORS, grass_image, load_texture_image,
                                        maze_image)
-from cloth_tui.scene import TEXTURES_DIR
+from cloth_tui.resources import textures_dir
 
 
 def test_builtin_textures_are_committed_small_pngs():
     for name in GENERATORS:
-        path = TEXTURES_DIR / f"{name}.png"
+        path = textures_dir() / f"{name}.png"
         assert path.is_file() and path.stat().st_size < 16_000
         img = load_texture_image(name)
         assert img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] == 3
