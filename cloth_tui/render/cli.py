@@ -16,6 +16,7 @@ from pathlib import Path
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, save_png
+from .probe import RendererUnavailable, require_renderer
 from .renderer import MAX_SIZE
 
 OUTPUT_SUFFIXES = (".png", ".mp4", ".gif")
@@ -91,6 +92,11 @@ def run_render(args) -> int:
     kind = out.suffix.lower()
     frames = args.frames or default_frames(kind, scene)
     fps = getattr(args, "fps", 30) or 30
+    try:
+        require_renderer()  # before simulating: a missing driver is said at once
+    except RendererUnavailable as e:
+        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        return 1
 
     from ..sim.runner import Simulation
     from .renderer import Renderer

@@ -63,6 +63,7 @@ class ClothApp(App):
         self._zoom = 1.0
         self._stopped = False
         self._crosshair_placed = False
+        self._no_preview: str | None = None  # why there are no pictures, once known
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
         self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
@@ -91,8 +92,7 @@ class ClothApp(App):
             self.renderer.start()
         except Exception as e:  # no GL, no renderer: the app still simulates
             self.renderer = None
-            self.notify(f"renderer unavailable: {type(e).__name__}: {e}", severity="error",
-                        timeout=10)
+            self._show_no_preview(f"{type(e).__name__}: {e}")
         self._start_sim(paused=self.start_paused)
         self.set_interval(0.2, self._refresh_status)
         if self.tame_gc:
@@ -181,9 +181,20 @@ class ClothApp(App):
         self.notify(f"The simulation stopped: {text}. Press r to restart.",
                     severity="error", timeout=30)
 
+    def _show_no_preview(self, reason: str) -> None:
+        """The renderer cannot start: say so where the picture would be, in the status line
+        and once as a notification; the simulation runs on."""
+        self._no_preview = reason
+        for preview in self.query(Preview):
+            preview.show_placeholder(f"no preview: {reason}")
+        self.notify(f"No preview: {reason}", severity="error", timeout=30)
+        self._refresh_status()
+
     def on_captured(self, message: Captured) -> None:
         ev = message.event
-        if ev.kind == "error":
+        if ev.kind == "unavailable":
+            self._show_no_preview(ev.message)
+        elif ev.kind == "error":
             self.notify(ev.message or "capture failed", title="Capture failed",
                         severity="error", timeout=10)
         elif ev.kind == "screenshot":
@@ -376,6 +387,8 @@ class ClothApp(App):
         paused = bool(self.sim is not None and self.sim.paused)
         text = self.readout.text(paused=paused, recording=recording,
                                  iterations=b.iterations, substeps=b.substeps)
+        if self._no_preview is not None:
+            text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
         for bar in self.query(StatusBar):  # none while the app is closing
             bar.show(text, self.readout.ms_history)
 
