@@ -64,6 +64,7 @@ class ClothApp(App):
         self._stopped = False
         self._crosshair_placed = False
         self._no_preview: str | None = None  # why there are no pictures, once known
+        self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
         self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
@@ -376,6 +377,15 @@ class ClothApp(App):
     def action_unfocus(self) -> None:
         self.set_focus(None)
 
+    def _handle_exception(self, error: Exception) -> None:
+        """An exception nothing caught ends the app as any internal error of the command
+        line does: one line and a log with the traceback (run_app hands the exception to
+        cli.main), never Textual's full-screen traceback."""
+        if self.crash is None:
+            self.crash = error
+        super()._handle_exception(error)  # return code 1, closes the app, tells the Pilot
+        self._exit_renderables.clear()    # what Textual would print after the app closed
+
     async def action_quit(self) -> None:
         self.shutdown()
         self.exit(0)
@@ -421,7 +431,8 @@ def _tame_garbage_collector() -> None:
 
 
 def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
-    """Create the captures folder (exit 2 if impossible), run the app, return its exit code."""
+    """Create the captures folder (exit 2 if impossible), run the app, return its exit code.
+    An exception that ended the app is raised again here, once the terminal is restored."""
     captures_dir = Path(captures_dir)
     try:
         captures_dir.mkdir(parents=True, exist_ok=True)
@@ -434,4 +445,6 @@ def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
     kwargs.setdefault("tame_gc", True)  # process-wide, so only for the real app, not tests
     app = ClothApp(scene, captures_dir, **kwargs)
     app.run()
+    if app.crash is not None:
+        raise app.crash  # the terminal is restored: cli.main logs it and prints one line
     return app.return_code or 0
