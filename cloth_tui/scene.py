@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .resources import builtin_scenes  # name → file; also used as scene.builtin_scenes
 from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
@@ -397,11 +398,6 @@ def loads(text: str, name: str = "scene") -> Scene:
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{name}: TOML syntax error: {e}") from None
     return from_dict(data, name)
-
-
-def builtin_scenes() -> dict[str, Path]:
-    from .resources import builtin_scenes as found
-    return found()
 
 
 def load(ref: str | os.PathLike) -> Scene:
