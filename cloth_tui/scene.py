@@ -12,18 +12,16 @@ import dataclasses
 import math
 import os
 import re
-import tempfile
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .resources import builtin_scenes  # name → file; also used as scene.builtin_scenes
 from .texture_names import BUILTIN_TEXTURES
+from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
-ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
-SCENES_DIR = ASSETS_DIR / "scenes"
-TEXTURES_DIR = ASSETS_DIR / "textures"
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
 TEXTURE_DOC = f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path"
@@ -411,10 +409,6 @@ def loads(text: str, name: str = "scene") -> Scene:
     return from_dict(data, name)
 
 
-def builtin_scenes() -> dict[str, Path]:
-    return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
-
-
 def load(ref: str | os.PathLike) -> Scene:
     """Load a scene from a path, or by the name of a built-in scene."""
     path = Path(ref)
@@ -435,15 +429,13 @@ def load(ref: str | os.PathLike) -> Scene:
 
 
 def save(scene: Scene, path: str | os.PathLike) -> Path:
-    """Write atomically: a temp file in the same folder, then rename."""
+    """Write atomically (util.atomic_write), with the permissions the umask gives."""
     path = Path(path)
     text = dumps(scene)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        with atomic_write(path, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.replace(tmp, path)
     except OSError as e:
         raise SceneError(f"cannot write {path}: {e.strerror}") from None
     return path
