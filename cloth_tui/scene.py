@@ -98,7 +98,8 @@ class SceneObject:
     axis: list = vec3([1.0, 0.0, 0.0], "capsule axis direction", nonzero=True)
     length: float = key(0.5, "capsule: length of its axis segment (the cylinder part)", unit="m",
                         lo=0.0, hi=1e3)
-    friction: float = key(-1.0, "friction 0–1 (−1: use scene.friction)", lo=-1.0, hi=1.0)
+    friction: float = key(-1.0, "Coulomb friction μ 0–1 (−1: use scene.friction)", lo=-1.0,
+                          hi=1.0)
     motion: str = key("static", "static, or orbit (the original's slow circle)",
                       choices=("static", "orbit"))
 
@@ -108,7 +109,7 @@ class SceneSection:
     floor: bool = key(True, "collide with the floor")
     floor_height: float = key(-0.5, "height of the floor", unit="m", lo=-1e3, hi=1e3)
     object: str = key("none", "the original's single object", choices=("none",) + OBJECT_TYPES)
-    friction: float = key(0.9, "friction factor of objects and floor (original's rule)",
+    friction: float = key(0.9, "Coulomb friction μ of objects and floor (static; kinetic 0.8 μ)",
                           lo=0.0, hi=1.0)
     moving: bool = key(False, "the object follows the original's slow orbit")
     thickness: float = key(0.005, "collision skin kept between cloth and objects", unit="m",

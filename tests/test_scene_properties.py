@@ -70,7 +70,8 @@ def test_binary_garbage_as_toml(data):
 
 @settings(max_examples=100)
 @given(st.lists(st.dictionaries(st.sampled_from(["type", "center", "radius", "size", "normal",
-                                                  "friction", "motion", "bogus"]), values,
+                                                  "axis", "length", "friction", "motion",
+                                                  "bogus"]), values,
                                  max_size=4), max_size=3))
 def test_random_objects(objects):
     check(lambda: sc.from_dict({"objects": objects}))

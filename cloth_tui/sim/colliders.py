@@ -1,17 +1,26 @@
-"""Colliders: positional correction with the original's friction rule.
+"""Colliders: contact projection, then Coulomb friction on the substep's whole motion.
 
-A particle found inside an object's skin (closer than `thickness` to its surface) goes to
-    new = F · posFriction + (1 − F) · posNoFriction
-posNoFriction  the nearest surface point, offset outward by the thickness;
-posFriction    the particle's previous position carried along with the object's motion
-               this substep (x_prev + object displacement);
-the blend is used only when the previous position was outside the true surface, as in the
-original (otherwise the particle is simply projected out). F = 1 holds a particle where it
-touched (static friction); F = 0 lets it slide. A blended point that would still be inside
-the skin is projected out once more, so no kernel leaves a particle inside its skin.
+Contact (`apply`, and again after the constraints in `pipeline.assemble`'s resolve pass): a
+particle closer than `thickness` to an object's surface (signed distance d < thickness) is
+moved out along the outward normal n by the depth δ = thickness − d. The contact records δ
+(summed over both passes: how far the object pushed this substep) and n.
 
-Moving objects follow the original's slow circle (ORBIT_RADIUS, ORBIT_PERIOD); the kernels
-take the object's displacement over the substep so its velocity drags the cloth via friction.
+Friction (`apply_friction`, after the constraint projection and the resolve pass, once per
+substep; Macklin, Müller, Chentanez & Kim 2014, "Unified particle physics", §6.1): for a
+particle the object pushed by δ > 0 this substep, with Δc the object's displacement,
+
+    Δx  = (x − x_prev) − Δc              the substep's whole motion relative to the object
+    Δx⊥ = Δx − (Δx·n) n                  its tangential part
+    static   |Δx⊥| < μs·δ :  x ← x − Δx⊥                           (it sticks)
+    kinetic  otherwise    :  x ← x − Δx⊥ · min(μk·δ / |Δx⊥|, 1)     (slides, slowed)
+
+δ is the normal measure: a position-based contact's normal impulse is m·δ/h, so μ·δ is
+Coulomb's bound μ·|f_n|·h² / m. Because Δx includes what the constraints did, friction
+also resists a sheet's own weight dragging its touching part sideways. μs = `friction`,
+μk = KINETIC_SHARE · μs: 0 slides freely; 1 holds wherever the tangential pull is at most the
+normal push (a sheet on a slope of up to 45°). A moving object carries what sticks to it.
+
+Moving objects follow the original's slow circle (ORBIT_RADIUS, ORBIT_PERIOD).
 """
 
 from __future__ import annotations
@@ -28,23 +37,13 @@ ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
 ORBIT_PERIOD = 10.0   # s, one revolution (≈ 0.16 m/s: the original's slow drift)
 PLANE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x
 AT_CENTRE = 1e-12     # m: a point this close to a centre or axis has no normal of its own
+KINETIC_SHARE = 0.8   # μk / μs: sliding friction a little below sticking (typical of fabric)
 
 
 # -- kernels --------------------------------------------------------------------------------
 # Each shape has a distance function (signed distance d of a point q given relative to the
-# shape's centre, and the outward unit normal there) and a collide_* kernel that applies the
-# friction rule with it. A blended point that would end inside the skin is projected out
-# again (a large slide can cut a corner of a curved shape).
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
-def _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness):
-    """F·posFriction + (1−F)·posNoFriction for particle i at distance d along normal n."""
-    k = thickness - d
-    g = 1.0 - friction
-    return (friction * (x_prev[i, 0] + dx) + g * (x[i, 0] + k * nx),
-            friction * (x_prev[i, 1] + dy) + g * (x[i, 1] + k * ny),
-            friction * (x_prev[i, 2] + dz) + g * (x[i, 2] + k * nz))
-
-
+# shape's centre, and the outward unit normal there), written once: the contact kernel and
+# the penetration measure both call it through _shape_distance.
 @njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _sphere_distance(qx, qy, qz, r):
     dist = math.sqrt(qx * qx + qy * qy + qz * qz)
@@ -115,33 +114,59 @@ def _shape_distance(shape, qx, qy, qz, p, s):
 
 
 @njit(nogil=True, cache=True, fastmath=FASTMATH)
-def collide_shape(x, x_prev, inv_mass, side, shape, p, dx, dy, dz, friction, thickness):
-    """The contact and friction rule for one object. side[i] = ±1 is the side of a plane the
-    particle started on (an infinite plane cannot be walked around, so it keeps it); other
-    shapes ignore it. (dx, dy, dz) is the object's displacement over this substep."""
+def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
+    """Contact projection for one object: a particle inside the skin goes out along the
+    normal to the skin's surface; depth[i] += how far, normal[i] = n. side[i] = ±1 is the
+    side of a plane the particle started on (an infinite plane cannot be walked around, so
+    it keeps it); other shapes ignore it."""
     cx, cy, cz = p[0], p[1], p[2]
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:
             continue
-        s = side[i]
-        d, nx, ny, nz = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, s)
+        d, nx, ny, nz = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p,
+                                        side[i])
         if d >= thickness:
             continue
-        qx = x[i, 0] + (thickness - d) * nx
-        qy = x[i, 1] + (thickness - d) * ny
-        qz = x[i, 2] + (thickness - d) * nz
-        d_prev, _, _, _ = _shape_distance(shape, x_prev[i, 0] + dx - cx, x_prev[i, 1] + dy - cy,
-                                          x_prev[i, 2] + dz - cz, p, s)
-        if d_prev > 0.0 and friction > 0.0:
-            qx, qy, qz = _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness)
-            dq, mx, my, mz = _shape_distance(shape, qx - cx, qy - cy, qz - cz, p, s)
-            if dq < thickness:
-                qx += (thickness - dq) * mx
-                qy += (thickness - dq) * my
-                qz += (thickness - dq) * mz
-        x[i, 0] = qx
-        x[i, 1] = qy
-        x[i, 2] = qz
+        push = thickness - d
+        x[i, 0] += push * nx
+        x[i, 1] += push * ny
+        x[i, 2] += push * nz
+        depth[i] += push
+        normal[i, 0] = nx
+        normal[i, 1] = ny
+        normal[i, 2] = nz
+
+
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
+def apply_coulomb_friction(x, x_prev, depth, normal, dx, dy, dz, mu_static, mu_kinetic):
+    """Static and kinetic friction on each contact's motion relative to the object (see the
+    module's docstring); (dx, dy, dz) is the object's displacement this substep. Clears
+    `depth` for the next substep."""
+    for i in range(x.shape[0]):
+        push = depth[i]
+        if push == 0.0:
+            continue
+        depth[i] = 0.0
+        nx = normal[i, 0]
+        ny = normal[i, 1]
+        nz = normal[i, 2]
+        rx = x[i, 0] - x_prev[i, 0] - dx
+        ry = x[i, 1] - x_prev[i, 1] - dy
+        rz = x[i, 2] - x_prev[i, 2] - dz
+        rn = rx * nx + ry * ny + rz * nz
+        tx = rx - rn * nx
+        ty = ry - rn * ny
+        tz = rz - rn * nz
+        slide = math.sqrt(tx * tx + ty * ty + tz * tz)
+        if slide == 0.0:
+            continue
+        if slide < mu_static * push:
+            removed = 1.0  # static: all of the tangential motion
+        else:
+            removed = min(mu_kinetic * push / slide, 1.0)
+        x[i, 0] -= removed * tx
+        x[i, 1] -= removed * ty
+        x[i, 2] -= removed * tz
 
 
 @njit(nogil=True, cache=True, fastmath=FASTMATH)
@@ -171,6 +196,9 @@ class ShapeCollider:
         self.friction, self.thickness = float(friction), float(thickness)
         self.side = np.ones(model.num_particles)  # plane: side of each particle
         self._sides_known = shape != PLANE
+        # this substep's contacts: how far the object pushed each particle, and along what
+        self.depth = np.zeros(model.num_particles)
+        self.normal_at = np.zeros((model.num_particles, 3))
 
     def center_at(self, t: float) -> np.ndarray:
         return self.center0
@@ -179,18 +207,25 @@ class ShapeCollider:
         """±1: the side of a plane each point is on."""
         return np.where((x - center) @ self.params[3:6] >= 0.0, 1.0, -1.0)
 
-    def apply(self, state, h, friction: float | None = None):
+    def displacement(self, t: float, h: float) -> np.ndarray:
+        """The object's motion over the substep [t, t + h], m."""
+        return self.center_at(t + h) - self.center_at(t)
+
+    def apply(self, state, h):
         before, after = self.center_at(state.t), self.center_at(state.t + h)
-        d = after - before
         self.center = after
-        f = self.friction if friction is None else friction
         p = self.params
         p[0:3] = after
         if not self._sides_known:
             self.side[:] = self._sides(state.x_prev, before)  # before this substep
             self._sides_known = True
-        collide_shape(state.x, state.x_prev, self.inv_mass, self.side, self.shape, p,
-                      d[0], d[1], d[2], f, self.thickness)
+        collide_shape(state.x, self.inv_mass, self.side, self.shape, p, self.thickness,
+                      self.depth, self.normal_at)
+
+    def apply_friction(self, state, h):
+        d = self.displacement(state.t, h)
+        apply_coulomb_friction(state.x, state.x_prev, self.depth, self.normal_at, d[0], d[1],
+                               d[2], self.friction, KINETIC_SHARE * self.friction)
 
     def signed_distance(self, x: np.ndarray) -> np.ndarray:
         """Distance of each point outside the true surface (negative inside), m. A plane
@@ -266,8 +301,8 @@ def _unit(v) -> np.ndarray:
 
 class ResolveContacts:
     """After the constraint pass: particles it pulled back inside an object are projected out
-    again, without friction (friction acted once already, in the contact pass). Without this
-    a sheet landing on the sphere at 4 substeps sinks 7–11 mm for a moment."""
+    again (adding to the contact's depth, the normal measure friction uses). Without this a
+    sheet landing on the sphere at 4 substeps sinks 7–11 mm for a moment."""
 
     name = "resolve_contacts"
 
@@ -276,7 +311,20 @@ class ResolveContacts:
 
     def apply(self, state, h):
         for collider in self.colliders:
-            collider.apply(state, h, friction=0.0)
+            collider.apply(state, h)
+
+
+class ContactFriction:
+    """Coulomb friction of every collider's contacts of this substep, after the constraints."""
+
+    name = "contact_friction"
+
+    def __init__(self, colliders: list[Collider]):
+        self.colliders = colliders
+
+    def apply(self, state, h):
+        for collider in self.colliders:
+            collider.apply_friction(state, h)
 
 
 def orbit_offset(t: float) -> np.ndarray:

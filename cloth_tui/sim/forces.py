@@ -31,6 +31,7 @@ SOFTENING = 0.1              # m, black hole / vortex softening length ε (no si
 REFERENCE_RADIUS = 0.5       # m, black hole: distance at which |a| ≈ custom_strength
 BEAM_RADIUS = 0.3            # m, tractor beam: Gaussian radius of the beam
 BEAM_ORBIT = 0.25            # m, tractor beam: its axis circles the field centre at this radius
+DEGENERATE_AREA = 1e-14      # m², twice a triangle's area below which it has no normal
 
 
 # -- kernels --------------------------------------------------------------------------------
@@ -64,7 +65,7 @@ def apply_wind(x, v, accel, inv_mass, triangles, wx, wy, wz, k):
         ny = e1z * e2x - e1x * e2z
         nz = e1x * e2y - e1y * e2x
         twice_area = math.sqrt(nx * nx + ny * ny + nz * nz)
-        if twice_area < 1e-14:
+        if twice_area < DEGENERATE_AREA:
             continue
         nx /= twice_area
         ny /= twice_area

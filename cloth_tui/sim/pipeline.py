@@ -7,6 +7,7 @@ The order of a substep's stages lives here and only here (`assemble`):
     enforce_tethers         (if the model has tethers)
     solver.constraints()    the constraint projection (none for springs), then
     resolve_contacts        re-projection of what the constraints pulled into an object
+    contact_friction        Coulomb friction on the contacts' whole substep motion
     apply_pins
     solver.velocities()
 A scene without wind has no wind effect, so it runs no wind code. Effects, force effects,
@@ -81,6 +82,9 @@ def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider]
         effects += constraints
         if collider_effects:
             effects.append(colliders.ResolveContacts(collider_effects))
+    if collider_effects:
+        # on the substep's whole motion, constraints included (see colliders.py)
+        effects.append(colliders.ContactFriction(collider_effects))
     if len(model.pinned):
         effects.append(ApplyPins(model))
     effects.append(solver.velocities())

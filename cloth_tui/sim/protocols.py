@@ -47,8 +47,12 @@ class ForceEffect(Effect, Protocol):
 
 
 class Collider(Effect, Protocol):
-    def apply(self, state: ClothState, h: float, friction: float | None = None) -> None:
-        """Contact pass; `friction` overrides the collider's own (0 for a pure projection)."""
+    """`apply` is the contact projection (run after the prediction, and again after the
+    constraints); it records each contact's depth and normal for `apply_friction`, which runs
+    once per substep after the last projection and clears them."""
+
+    def apply_friction(self, state: ClothState, h: float) -> None:
+        ...
 
     def penetration(self, x: np.ndarray) -> float:
         """Deepest any free particle is inside the true surface, m."""

@@ -24,6 +24,9 @@ from numba import njit
 from .jit import FASTMATH
 
 COLLISION_FRACTION = 0.8  # D / spacing
+FLOAT32_MARGIN = 1e-6     # relative: above float32 rounding (2⁻²⁴ ≈ 6e-8) of |coordinates|
+SCREEN_SLACK = 1e-12      # m: absolute part of the float32 screen's margin
+COINCIDENT = 1e-12        # m: a pair this close has no direction to be pushed apart along
 
 
 @njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
@@ -114,7 +117,7 @@ def find_pairs_hash(x, n, dist, inv_cell, mask, stride_z, stride_y, cell_start, 
     big = build_hash(x, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles,
                      sorted_key, sorted_x)
     d2max = dist * dist
-    screen = dist + 1e-6 * big + 1e-12
+    screen = dist + FLOAT32_MARGIN * big + SCREEN_SLACK
     screen2 = np.float32(screen * screen)
     count = 0
     cap = pairs.shape[0]
@@ -175,7 +178,7 @@ def resolve_pairs(x, inv_mass, pairs, count, dist):
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         d2 = dx * dx + dy * dy + dz * dz
-        if d2 >= dist * dist or d2 < 1e-24:
+        if d2 >= dist * dist or d2 < COINCIDENT * COINCIDENT:
             continue
         d = math.sqrt(d2)
         s = (dist - d) / (d * w)

@@ -1,4 +1,4 @@
-"""Colliders: shapes, the original's friction rule, moving objects, two-sided planes."""
+"""Colliders: shapes, Coulomb friction, moving objects, two-sided planes."""
 
 import math
 
@@ -74,31 +74,59 @@ def test_plane_collides_from_both_sides():
     assert c.penetration(four([0.0, 0.02, 0.0])) == pytest.approx(0.02)
 
 
-def test_friction_blends_previous_and_projected_positions():
-    # x_prev outside, sliding along x while sinking in: F = 0.5 keeps half the slide
-    kw = dict(radius=0.25, center=(0.0, -0.25, 0.0))
-    new, prev = (0.05, -0.01, 0.0), (0.0, 0.02, 0.0)
-    free, _ = collide("sphere", new, prev, friction=0.0, **kw)
-    held, _ = collide("sphere", new, prev, friction=1.0, **kw)
-    half, _ = collide("sphere", new, prev, friction=0.5, **kw)
-    assert np.linalg.norm(free - [0.0, -0.25, 0.0]) == pytest.approx(0.26)
-    np.testing.assert_allclose(held, prev, atol=1e-12)  # held where it was
-    np.testing.assert_allclose(half, 0.5 * free + 0.5 * held, atol=1e-12)
-    # a moving object carries a held particle along (posFriction = x_prev + displacement)
+def contact_then_friction(c, p, p_prev, t=0.0, h=0.01, between=None):
+    """The contact pass, optionally something moving the particle (the constraints), then
+    friction, as one substep runs them; returns the particle's new position."""
+    class S:
+        x = four(p)
+        x_prev = four(p_prev)
+    S.t = t
+    c.apply(S, h)
+    if between is not None:
+        S.x += between
+    c.apply_friction(S, h)
+    return S.x[0]
+
+
+def plane(friction):
+    return colliders.ObjectCollider(one_particle_model(), "plane", (0.0, 0.0, 0.0),
+                                    normal=(0.0, 1.0, 0.0), friction=friction, thickness=0.01)
+
+
+def test_coulomb_friction_sticks_below_mu_times_depth_and_slides_above():
+    # On the skin of a horizontal plane, then 3 mm sideways and 4 mm in: depth δ = 4 mm.
+    prev, new = (0.0, 0.01, 0.0), (0.003, 0.006, 0.0)
+    np.testing.assert_allclose(contact_then_friction(plane(1.0), new, prev), prev, atol=1e-15)
+    # μs δ = 2 mm < 3 mm: kinetic, removes μk δ = 0.8 · 0.5 · 4 mm = 1.6 mm of the slide
+    np.testing.assert_allclose(contact_then_friction(plane(0.5), new, prev),
+                               [0.003 - 0.0016, 0.01, 0.0], atol=1e-15)
+    np.testing.assert_allclose(contact_then_friction(plane(0.0), new, prev),
+                               [0.003, 0.01, 0.0], atol=1e-15)
+    # no contact this substep, no friction
+    np.testing.assert_allclose(contact_then_friction(plane(1.0), (0.003, 0.02, 0.0), prev),
+                               [0.003, 0.02, 0.0])
+
+
+def test_friction_resists_what_the_constraints_add_after_the_contact():
+    # The contact pass ran on the prediction (1 mm in); then the constraints dragged the
+    # particle 0.5 mm sideways. Friction acts on the whole motion, so it holds at μ = 1.
+    prev, new = (0.0, 0.01, 0.0), (0.0, 0.009, 0.0)
+    drag = np.array([0.0005, 0.0, 0.0])
+    np.testing.assert_allclose(contact_then_friction(plane(1.0), new, prev, between=drag),
+                               prev, atol=1e-15)
+    np.testing.assert_allclose(contact_then_friction(plane(0.0), new, prev, between=drag),
+                               [0.0005, 0.01, 0.0], atol=1e-15)
+
+
+def test_a_moving_object_carries_what_sticks_to_it():
     m = one_particle_model()
     c = colliders.ObjectCollider(m, "box", (0.0, 0.0, 0.0), size=(0.5, 0.2, 0.5), friction=1.0,
                                  thickness=0.01, moving=True)
-
-    class S:
-        x_prev = four([0.0, 0.1 + 0.01, 0.0])  # resting on the top face's skin
-        x = x_prev - [0.0, 0.001, 0.0]  # gravity pulled it in a little
-        t = 1.0
-    c.apply(S, 0.05)
-    shift = colliders.orbit_offset(1.05) - colliders.orbit_offset(1.0)
-    np.testing.assert_allclose(S.x[0], S.x_prev[0] + shift, atol=1e-12)
-    # previous position already inside: no friction, plain projection
-    inside, _ = collide("sphere", new, (0.0, -0.1, 0.0), friction=1.0, **kw)
-    np.testing.assert_allclose(inside, free)
+    prev = np.array([0.0, 0.1 + 0.01, 0.0])  # resting on the top face's skin
+    # pressed 1 mm in while the box moves ≈ 0.3 mm: within μ·δ, so it moves with the box
+    x = contact_then_friction(c, prev - [0.0, 0.001, 0.0], prev, t=1.0, h=0.002)
+    shift = colliders.orbit_offset(1.002) - colliders.orbit_offset(1.0)
+    np.testing.assert_allclose(x, prev + shift, atol=1e-12)
 
 
 # -- whole sheets ---------------------------------------------------------------------------

@@ -18,11 +18,11 @@ def build(**keys):
 
 
 @pytest.mark.parametrize("solver,integrate,constraints,velocities", [
-    ("pbd", ["gravity", "integrate_verlet"], ["project_constraints", "resolve_contacts"],
-     "update_velocities"),
-    ("xpbd", ["gravity", "integrate_verlet"], ["project_xpbd_constraints", "resolve_contacts"],
-     "update_velocities"),
-    ("springs", ["integrate_verlet"], [], "correct_velocities"),
+    ("pbd", ["gravity", "integrate_verlet"],
+     ["project_constraints", "resolve_contacts", "contact_friction"], "update_velocities"),
+    ("xpbd", ["gravity", "integrate_verlet"],
+     ["project_xpbd_constraints", "resolve_contacts", "contact_friction"], "update_velocities"),
+    ("springs", ["integrate_verlet"], ["contact_friction"], "correct_velocities"),
 ])
 def test_every_solver_runs_the_one_stage_order(solver, integrate, constraints, velocities):
     step, _, _ = build(behavior__solver=solver, behavior__tethers=True)
