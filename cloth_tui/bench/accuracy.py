@@ -126,6 +126,7 @@ def study_scene(cfg: StudyConfig, solver: str = "springs", integrator: str = "rk
     b.spring_damping = 0.0
     b.compliance = 1.0 / k if compliance is None else compliance
     b.damping = damping
+    b.tethers = False  # the study measures the solvers alone
     b.iterations = iterations
     b.substeps = substeps
     b.frame_rate = 1.0 / (dt * substeps)

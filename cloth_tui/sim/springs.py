@@ -47,7 +47,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene import ORIGINAL_TIMESTEP
+from ..scene import ORIGINAL_TIMESTEP, integrator_for
 from . import solvers
 
 CG_TOLERANCE = 1e-6        # relative residual ‖r‖/‖b‖ at which conjugate gradients stops
@@ -355,9 +355,9 @@ class IntegrateSprings:
     leaves the integrator's end positions in `x_pred` for `correct_velocities`."""
 
     def __init__(self, model, behavior, force_effects: list, h: float):
-        if behavior.integrator not in ORDERS:
-            raise ValueError(f"unknown integrator {behavior.integrator!r}")
-        self.integrator = behavior.integrator
+        self.integrator = integrator_for(behavior)  # `auto` resolved for springs
+        if self.integrator not in ORDERS:
+            raise ValueError(f"unknown integrator {self.integrator!r}")
         self.name = f"integrate_{self.integrator}"
         self.model = model
         self.k = float(behavior.stiffness)
