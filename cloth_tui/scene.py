@@ -129,7 +129,7 @@ class Behavior:
     stretch_tolerance: float = key(0.05, "largest stretch a frame may leave on any constraint, "
                                    "as a share of its rest length (0.05: 5 %)", lo=0.001,
                                    hi=10.0)
-    max_substeps: int = key(64, "adaptive: the most substeps per frame it may use",
+    max_substeps: int = key(128, "adaptive: the most substeps per frame it may use",
                             lo=1, hi=1000)
     frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=0.0,
                             lo_open=True, hi=10000.0)

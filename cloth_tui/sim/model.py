@@ -151,10 +151,12 @@ def nearest_pins(rest: np.ndarray, pins: np.ndarray, seed: int) -> tuple:
 
 
 def uses_tethers(behavior) -> bool:
-    """Tethers serve the position-based solvers. With springs, projecting positions the
+    """Tethers serve the position-based solvers, and only a sheet (some constraint family
+    on) is inextensible enough for its pins to bound its particles. With springs, projecting positions the
     integrator then keeps moving adds energy (measured: +0.13 J a frame on the default 0.5 J
     sheet with implicit Euler, which the divergence guard rightly rejects)."""
-    return behavior.tethers and behavior.solver != "springs"
+    return (behavior.tethers and behavior.solver != "springs"
+            and (behavior.structural or behavior.shear or behavior.bending))
 
 
 def particle_masses(n: int, total: float, mass_model: str = "area") -> np.ndarray:
