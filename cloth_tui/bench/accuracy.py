@@ -302,9 +302,10 @@ def largest_stable_dt(cfg: StudyConfig, integrator: str, stiffness: float) -> di
 
 def stability_map(cfg: StudyConfig) -> dict:
     """Largest stable timestep of each springs integrator at each of three stiffnesses,
-    and ω0 = √(k/m) of each stiffness: a limit dt·ω0 that stays the same across stiffnesses
-    means the limit scales as 1/√k."""
-    m = cfg.mass / (cfg.n * cfg.n)
+    and ω0 = √(k/m) of each stiffness (m of an interior particle; edges have ½ of it and
+    corners ¼): a limit dt·ω0 that stays the same across stiffnesses means the limit scales
+    as 1/√k."""
+    m = cfg.mass / (cfg.n - 1) ** 2  # an interior particle's (masses by area)
     out = {"t_end": cfg.stability_t_end, "range": list(cfg.stability_range),
            "stiffness": list(cfg.stability_stiffness), "methods": {}}
     for integ in INTEGRATORS:

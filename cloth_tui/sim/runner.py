@@ -137,9 +137,10 @@ class Simulation:
         # stand where they were at t = 0 until they first run.
         if self.step.colliders:
             self.penetration = max(self.penetration, self.step.penetration(self.state.x))
-        if self.control.adaptive and not self.halted \
-                and self.control.accept(self.frame_stretch) != self.step.substeps >> self._guard_level:
-            self._build_step()
+        if self.control.adaptive and not self.halted:
+            planned = self.control.substeps
+            if self.control.accept(self.frame_stretch) != planned:
+                self._build_step()
         if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0 and not self.halted:
             self._guard_level -= 1  # try fewer substeps again now and then
             self._build_step()

@@ -1,5 +1,6 @@
 """The status line: rates, step cost, stretch and energy, the stretch tolerance and what it
-costs, a sparkline of ms per frame and the recording mark. `Readout` is plain Python (no Textual) so the numbers are testable alone."""
+costs, a sparkline of ms per frame and the recording mark. `Readout` is plain Python (no
+Textual) so the numbers are testable alone."""
 
 from __future__ import annotations
 
