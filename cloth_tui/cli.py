@@ -11,11 +11,9 @@ import os
 import sys
 from pathlib import Path
 
+from .usage import UsageError, check_output_path
+
 COMMANDS = ("render", "simulate", "bench", "accuracy", "scenes")
-
-
-class UsageError(Exception):
-    """Bad input from the user: reported as one line, exit status 2."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,6 +29,23 @@ def _add_scene_args(p: argparse.ArgumentParser, optional: bool = False) -> None:
         p.add_argument("scene", help="scene file (.toml) or built-in scene name")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                    help="override one scene key, e.g. --set forces.wind=true (repeatable)")
+
+
+class _VersionAction(argparse.Action):
+    """`--version`: the installed package's version, read only when asked."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="print the version and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            text = version("cloth-tui")
+        except PackageNotFoundError:  # run from a source tree that was never installed
+            text = "unknown (not installed)"
+        print(f"cloth-tui {text}")
+        parser.exit(0)
 
 
 def _positive_int(text: str) -> int:
@@ -49,6 +64,7 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                               "app on SCENE. Commands: " + ", ".join(COMMANDS) +
                               " (cloth-tui COMMAND --help for each).")
     _add_scene_args(app, optional=True)
+    app.add_argument("--version", action=_VersionAction)
     app.add_argument("--captures", default="captures", metavar="DIR",
                      help="folder for screenshots, videos, the preview file and saved scenes "
                           "(default: ./captures)")
@@ -67,7 +83,8 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="OUT.png (last frame), OUT.mp4 or OUT.gif")
     p.add_argument("--frames", type=_positive_int, default=None,
-                   help="frames to simulate (default: 1 for PNG, 90 for video)")
+                   help="frames to simulate (default: for PNG, 2 s of simulated time, i.e. "
+                        "2×frame_rate frames, so the sheet has settled; for video, 90)")
     p.add_argument("--size", default="640x480", metavar="WxH", help="image size in pixels")
     p.add_argument("--fps", type=_positive_int, default=30, help="video frames per second")
 
@@ -85,11 +102,6 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     return app, cmd
 
 
-def load_scene(ref: str, overrides: list[str]):
-    from .scene import apply_overrides, load
-    return apply_overrides(load(ref), overrides)
-
-
 def cmd_scenes(args) -> int:
     from .scene import builtin_scenes
     for name, path in builtin_scenes().items():
@@ -104,9 +116,11 @@ def cmd_simulate(args) -> int:
 
     import numpy as np
 
-    scene = load_scene(args.scene, args.overrides)
+    from .scene import apply_overrides, load
+
+    scene = apply_overrides(load(args.scene), args.overrides)
     if args.dump:
-        _check_writable(Path(args.dump), (".npz",))
+        check_output_path(Path(args.dump), (".npz",))
     from .sim.runner import Simulation
 
     sim = Simulation(scene)
@@ -127,24 +141,14 @@ def cmd_simulate(args) -> int:
     return 0
 
 
-def _check_writable(path: Path, suffixes: tuple[str, ...]) -> None:
-    if path.suffix.lower() not in suffixes:
-        raise UsageError(f"{path}: unsupported file type; use {', '.join(suffixes)}")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise UsageError(f"{path}: folder {parent} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise UsageError(f"{path}: folder {parent} is not writable")
-
-
 def cmd_render(args) -> int:
     from .render.cli import run_render
-    return run_render(args, load_scene, _check_writable, UsageError)
+    return run_render(args)
 
 
 def cmd_bench(args) -> int:
     from .bench.cli import run_bench
-    return run_bench(args, load_scene)
+    return run_bench(args)
 
 
 def cmd_accuracy(args) -> int:
@@ -153,7 +157,9 @@ def cmd_accuracy(args) -> int:
 
 
 def cmd_app(args) -> int:
-    scene = load_scene(args.scene, args.overrides)
+    from .scene import apply_overrides, load
+
+    scene = apply_overrides(load(args.scene), args.overrides)
     from .tui.app import run_app
     return run_app(scene, Path(args.captures))
 

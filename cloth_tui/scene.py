@@ -12,18 +12,19 @@ import dataclasses
 import math
 import os
 import re
-import tempfile
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .resources import builtin_scenes  # name → file; also used as scene.builtin_scenes
+from .texture_names import BUILTIN_TEXTURES
+from .util import atomic_write
+
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
-ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
-SCENES_DIR = ASSETS_DIR / "scenes"
-TEXTURES_DIR = ASSETS_DIR / "textures"
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
+TEXTURE_DOC = f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path"
 
 
 class SceneError(ValueError):
@@ -97,8 +98,11 @@ class SceneObject:
     type: str = key("sphere", "shape of the object", choices=OBJECT_TYPES)
     center: list = vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)", unit="m")
     radius: float = key(0.25, "radius (sphere, capsule)", unit="m", lo=0.0, lo_open=True, hi=1e3)
-    size: list = vec3([0.5, 0.2, 0.5], "box sides; capsule: size[1] is the axis length", unit="m")
-    normal: list = vec3([0.0, 1.0, 0.0], "plane normal; capsule axis", nonzero=True)
+    size: list = vec3([0.5, 0.2, 0.5], "box sides", unit="m")
+    normal: list = vec3([0.0, 1.0, 0.0], "plane normal", nonzero=True)
+    axis: list = vec3([1.0, 0.0, 0.0], "capsule axis direction", nonzero=True)
+    length: float = key(0.5, "capsule: length of its axis segment (the cylinder part)", unit="m",
+                        lo=0.0, hi=1e3)
     friction: float = key(-1.0, "friction 0–1 (−1: use scene.friction)", lo=-1.0, hi=1.0)
     motion: str = key("static", "static, or orbit (the original's slow circle)",
                       choices=("static", "orbit"))
@@ -169,10 +173,8 @@ class Appearance:
     ground_color: str = key("#404761", "ground colour", kind="color")
     ground_emissive: str = key("#000000", "ground emission colour", kind="color")
     fog_color: str = key("#cce0ff", "background / fog colour", kind="color")
-    cloth_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
-                             kind="texture")
-    ground_texture: str = key("none", "none, a built-in texture name (maze, grass) or a PNG path",
-                              kind="texture")
+    cloth_texture: str = key("none", TEXTURE_DOC, kind="texture")
+    ground_texture: str = key("none", TEXTURE_DOC, kind="texture")
 
 
 @dataclass
@@ -309,7 +311,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
 
 
 def _check_texture(value: str, bad) -> None:
-    if value in ("none", "maze", "grass"):
+    if value == "none" or value in BUILTIN_TEXTURES:
         return
     if not value.lower().endswith(".png"):
         raise bad()
@@ -337,6 +339,12 @@ def validate(scene: Scene) -> None:
                          f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
                          f"2π·amplitude·frequency must not exceed behavior.max_speed = "
                          f"{b.max_speed:g} m/s")
+    default = SceneObject()
+    for i, o in enumerate(scene.objects):
+        if o.type == "capsule" and (o.normal != default.normal or o.size != default.size):
+            raise SceneError(f"objects[{i}]: a capsule takes `axis` (direction) and `length` "
+                             "(m), not `normal` and `size` (older files put the axis in normal "
+                             "and the length in size[1]); move them to axis and length")
     n = scene.cloth.resolution
     if b.self_collision == "naive" and n > 128:
         raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "
@@ -421,10 +429,6 @@ def loads(text: str, name: str = "scene") -> Scene:
     return from_dict(data, name)
 
 
-def builtin_scenes() -> dict[str, Path]:
-    return {p.stem: p for p in sorted(SCENES_DIR.glob("*.toml"))}
-
-
 def load(ref: str | os.PathLike) -> Scene:
     """Load a scene from a path, or by the name of a built-in scene."""
     path = Path(ref)
@@ -445,15 +449,13 @@ def load(ref: str | os.PathLike) -> Scene:
 
 
 def save(scene: Scene, path: str | os.PathLike) -> Path:
-    """Write atomically: a temp file in the same folder, then rename."""
+    """Write atomically (util.atomic_write), with the permissions the umask gives."""
     path = Path(path)
     text = dumps(scene)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        with atomic_write(path, "w", encoding="utf-8") as fh:
             fh.write(text)
-        os.replace(tmp, path)
     except OSError as e:
         raise SceneError(f"cannot write {path}: {e.strerror}") from None
     return path

@@ -114,3 +114,17 @@ def test_every_command_refuses_malformed_set(tmp_path, command, override):
             "render": ["render", "default", "-o", str(tmp_path / "x.png")]}[command]
     rc, out, err = run(*args, "--set", override)
     assert rc == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_version_comes_from_the_package_metadata():
+    from importlib.metadata import version
+    rc, out, err = run("--version")
+    assert rc == 0, err
+    assert out.strip() == f"cloth-tui {version('cloth-tui')}"
+
+
+def test_plot_and_dump_into_a_folder_that_refuses_files_exit_2():
+    for args in (["simulate", "default", "--dump", "/sys/x.npz"],
+                 ["accuracy", "--quick", "--plot", "/sys/x.png"]):
+        rc, out, err = run(*args)
+        assert rc == 2 and "Permission denied" in err and len(err.strip().splitlines()) == 1

@@ -23,6 +23,7 @@ def test_builtin_default_is_addressable_by_name():
 def test_save_and_load_round_trip(tmp_path):
     s = Scene().with_value("forces.wind", True).with_value("cloth.resolution", 40)
     s.objects.append(sc.SceneObject(type="box", center=[0.1, 0.0, 0.0]))
+    s.objects.append(sc.SceneObject(type="capsule", axis=[0.0, 0.0, 1.0], length=0.3))
     path = sc.save(s, tmp_path / "mine.toml")
     back = sc.load(path)
     assert back == s
@@ -39,6 +40,10 @@ def test_save_and_load_round_trip(tmp_path):
     ("[[objects]]\ntype = \"torus\"\n", ["objects[0].type", "sphere"]),
     ("[appearance]\ncloth_color = \"red\"\n", ["cloth_color", "#rrggbb"]),
     ("[behavior]\nsolver = \"pbd\"\nintegrator = \"rk4\"\n", ["integrator", "springs"]),
+    # capsules used to reuse a plane's `normal` and a box's size[1] for axis and length
+    ("[[objects]]\ntype = \"capsule\"\nsize = [0.0, 0.5, 0.0]\nnormal = [1.0, 0.0, 0.0]\n",
+     ["objects[0]", "capsule", "axis", "length"]),
+    ("[[objects]]\ntype = \"capsule\"\nnormal = [0.0, 0.0, 1.0]\n", ["axis", "length"]),
 ])
 def test_bad_documents_name_the_problem(text, words):
     with pytest.raises(SceneError) as e:

@@ -27,7 +27,8 @@ import numpy as np
 from ..scene import Scene
 from ..sim import pipeline
 from ..sim.model import build_model
-from ..sim.runner import energy, stretch
+from ..sim.measures import energy, stretch
+from ..sim.solvers import PositionBasedSolver
 from ..sim.springs import ORDERS
 from ..sim.state import ClothState
 
@@ -145,10 +146,8 @@ def study_model(scene: Scene, pinned: str = "two_corners"):
     inv_mass[pins] = 0.0
     for a in (pins, inv_mass):
         a.setflags(write=False)
-    extra = {}
-    if getattr(model, "tether_pin", None) is not None:  # tethers follow the pins: drop them
-        extra = {"tether_pin": None, "tether_length": None}
-    return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass, **extra)
+    # (study_scene turns tethers off, so none refer to the pins replaced here)
+    return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass)
 
 
 @dataclass
@@ -169,7 +168,9 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     h = step.h
     steps = max(1, int(round(t_end / h)))
     check = max(1, int(round(CHECK_INTERVAL / h)))
-    e0 = energy(model, state, scene)
+    solver = step.solver
+    lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
+    e0 = energy(model, state, scene, lambdas, h)
     scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.size
     x0 = state.x.copy()
     limit = BLOWUP_DISTANCE * model.size
@@ -195,7 +196,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
                 stable = False
                 break
     cpu = time.thread_time() - cpu0
-    drift = (energy(model, state, scene) - e0) / scale if stable else math.nan
+    drift = (energy(model, state, scene, lambdas, h) - e0) / scale if stable else math.nan
     # Other processes share the cores and preempt some chunks: the cost of a substep is the
     # lower quartile of the chunks' rates, which such interruptions do not reach.
     wall = float(np.percentile(rates, 25)) * steps if rates else 0.0

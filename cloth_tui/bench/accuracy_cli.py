@@ -9,6 +9,7 @@ import math
 import sys
 from pathlib import Path
 
+from ..usage import UsageError, check_output_path
 from . import accuracy
 
 METHOD_STYLE = {  # colour, marker
@@ -34,12 +35,9 @@ def _num(v):
 
 
 def _check_plot_path(path: Path) -> None:
-    from ..cli import UsageError
     if path.suffix.lower() != ".png":
         raise UsageError(f"{path}: the plot is a PNG; use a .png file name")
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise UsageError(f"{path}: folder {parent} does not exist")
+    check_output_path(path, (".png",))
     try:
         import matplotlib  # noqa: F401
     except ImportError:

@@ -42,9 +42,3 @@ def breakdown(scene: Scene, frames: int = 120, warmup: int = 10) -> dict:
             "substeps": step.substeps, "frames": frames,
             "ms_per_frame": 1e3 * total / frames, "effects": effects}
 
-
-def effect_time(scene: Scene, name: str, frames: int) -> float | None:
-    """Seconds per frame spent in one effect, or None if the scene's step lacks it."""
-    result = breakdown(scene, frames=frames, warmup=2)
-    return next((e["ms_per_frame"] / 1e3 for e in result["effects"] if e["effect"] == name),
-                None)

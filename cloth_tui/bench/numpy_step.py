@@ -1,9 +1,10 @@
 """The plain-NumPy form of the bare step, kept only as a benchmark baseline.
 
-Same algorithm as the compiled step (Verlet with damping and a speed clamp, gravity, coloured
-Gauss-Seidel projection of the three families, pins) written with strided slices of the
-(n, n, 3) grid: every colour of `model._color_edges_grid` is one or two slice pairs, so the
-two forms visit constraints in the same colour order and give the same positions.
+Same algorithm as the compiled step (Verlet with damping and gravity, the displacement clamped
+to max_speed·h as a whole, coloured Gauss-Seidel projection of the three families, pins)
+written with strided slices of the (n, n, 3) grid: every colour of `model._color_edges_grid`
+is one or two slice pairs, so the two forms visit constraints in the same colour order and
+give the same positions.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..sim.model import ClothModel
-from ..sim.solvers import damping_factor
+from ..sim.stages import damping_factor
 
 
 def _slice_pairs(n: int, families: tuple[bool, bool, bool]) -> list[tuple]:
@@ -58,11 +59,12 @@ class NumpyStep:
     def substep(self, x: np.ndarray, x_prev: np.ndarray, v: np.ndarray,
                 anchors: np.ndarray) -> None:
         h = self.h
-        vel = v * self.keep
-        speed = np.sqrt(np.einsum("ij,ij->i", vel, vel))[:, None]
-        vel *= np.minimum(1.0, self.max_speed / np.maximum(speed, 1e-300))
+        step = v * (self.keep * h) + self.g * (h * h)
+        length = np.sqrt(np.einsum("ij,ij->i", step, step))[:, None]
+        max_step = self.max_speed * h
+        step *= np.where(length > max_step, max_step / np.maximum(length, 1e-300), 1.0)
         x_prev[...] = x
-        x += np.where(self.moving, vel * h + self.g * (h * h), 0.0)
+        x += np.where(self.moving, step, 0.0)
         grid = x.reshape(self.n, self.n, 3)
         for _ in range(self.iterations):
             for a, b, rest, wa, wb in self.pairs:

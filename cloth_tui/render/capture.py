@@ -10,6 +10,7 @@ Crash safety:
   last complete fragment: there is no index at the end to lose.
 - GIF frames are held in memory and written (temp name, then rename) when the video ends;
   a killed GIF recording leaves nothing.
+Finished files are written by util.atomic_write and get the permissions the umask gives.
 Every failure to write surfaces as CaptureError with a one-line message.
 """
 
@@ -17,12 +18,13 @@ from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
 import time
 from datetime import datetime
 from pathlib import Path
 
 import numpy as np
+
+from ..util import atomic_write
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PREVIEW_NAME = "preview.png"
@@ -65,29 +67,19 @@ def partial_name(path: Path) -> str:
     return f"{path.stem}.partial{path.suffix}"
 
 
-def _encode_png(image: np.ndarray, fh, compress_level: int = 6) -> None:
+def save_png(image: np.ndarray, path: Path, compress_level: int = 6,
+             durable: bool = True) -> Path:
+    """Write atomically (util.atomic_write: temp file in the same folder, then rename)."""
     import imageio.v3 as iio
-    fh.write(iio.imwrite("<bytes>", image, extension=".png", compress_level=compress_level))
 
-
-def save_png(image: np.ndarray, path: Path, compress_level: int = 6) -> Path:
-    """Write atomically (temp file in the same folder, then rename)."""
     path = Path(path)
-    tmp = None
+    data = iio.imwrite("<bytes>", np.ascontiguousarray(image), extension=".png",
+                       compress_level=compress_level)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
-                                   dir=path.parent if str(path.parent) else ".")
-        os.fchmod(fd, 0o644)  # mkstemp's 0600 would hide captures from other users/viewers
-        with os.fdopen(fd, "wb") as fh:
-            _encode_png(np.ascontiguousarray(image), fh, compress_level)
-        os.replace(tmp, path)
-        tmp = None
+        with atomic_write(path, durable=durable) as fh:
+            fh.write(data)
     except OSError as e:
         raise CaptureError(f"cannot write {path}: {_reason(e)}") from None
-    finally:
-        if tmp is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
     return path
 
 
@@ -184,14 +176,10 @@ class VideoWriter:
 
         frames = self._gif or [np.zeros((self.size[1], self.size[0], 3), np.uint8)]
         self._gif = []
-        tmp = self.path.with_name(f".{self.path.name}.tmp.gif")
-        try:
-            iio.imwrite(tmp, np.stack(frames), extension=".gif",
-                        duration=1000.0 / self.fps, loop=0)
-            os.replace(tmp, self.path)
-        finally:
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+        data = iio.imwrite("<bytes>", np.stack(frames), extension=".gif",
+                           duration=1000.0 / self.fps, loop=0)
+        with atomic_write(self.path) as fh:
+            fh.write(data)
 
     def abort(self) -> None:
         """Stop without finishing; an MP4 keeps its playable `.partial.mp4`."""
@@ -222,7 +210,8 @@ class PreviewFile:
             return False
         self._last = now
         try:
-            save_png(image, self.path, compress_level=1)  # fast: 5 Hz must stay cheap
+            # Fast: 5 Hz must stay cheap; no fsync, a preview is worthless after a crash.
+            save_png(image, self.path, compress_level=1, durable=False)
         except CaptureError:
             self.failed = True
             raise

@@ -1,6 +1,7 @@
 """`cloth-tui render SCENE -o OUT.png|OUT.mp4|OUT.gif`: simulate headless and draw.
 
-PNG: the last of `--frames` frames (default 1). MP4/GIF: every frame (default 90).
+PNG: the last of `--frames` frames (default: 2 s of simulated time, 2·frame_rate frames, so
+the sheet has settled). MP4/GIF: every frame (default 90).
 SIGINT/SIGTERM finish the video properly (playable file, final name) and exit 130/143.
 """
 
@@ -12,20 +13,25 @@ import sys
 import threading
 from pathlib import Path
 
+from ..scene import apply_overrides, load
+from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, save_png
+from .probe import RendererUnavailable, require_renderer
 from .renderer import MAX_SIZE
 
 OUTPUT_SUFFIXES = (".png", ".mp4", ".gif")
+SETTLE_S = 2.0       # s of simulated time before a PNG is taken: the sheet has draped
+VIDEO_FRAMES = 90
 EXIT_BY_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
 
 
-def parse_size(text: str, usage_error) -> tuple[int, int]:
+def parse_size(text: str) -> tuple[int, int]:
     m = re.fullmatch(r"\s*(\d+)\s*[xX×]\s*(\d+)\s*", str(text))
     if not m:
-        raise usage_error(f"--size {text!r}: expected WIDTHxHEIGHT, e.g. 640x480")
+        raise UsageError(f"--size {text!r}: expected WIDTHxHEIGHT, e.g. 640x480")
     w, h = int(m.group(1)), int(m.group(2))
     if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
-        raise usage_error(f"--size {text!r}: each side must be 1..{MAX_SIZE} pixels")
+        raise UsageError(f"--size {text!r}: each side must be 1..{MAX_SIZE} pixels")
     return w, h
 
 
@@ -70,14 +76,27 @@ class _Progress:
             sys.stderr.flush()
 
 
-def run_render(args, load_scene, check_writable, usage_error) -> int:
+def default_frames(kind: str, scene) -> int:
+    """A PNG shows the sheet settled (SETTLE_S of simulated time), not its flat first frame;
+    a video shows its first VIDEO_FRAMES frames."""
+    if kind == ".png":
+        return max(1, round(SETTLE_S * scene.behavior.frame_rate))
+    return VIDEO_FRAMES
+
+
+def run_render(args) -> int:
     out = Path(args.output)
-    check_writable(out, OUTPUT_SUFFIXES)
-    size = parse_size(args.size, usage_error)
-    scene = load_scene(args.scene, args.overrides)
+    check_output_path(out, OUTPUT_SUFFIXES)
+    size = parse_size(args.size)
+    scene = apply_overrides(load(args.scene), args.overrides)
     kind = out.suffix.lower()
-    frames = args.frames or (1 if kind == ".png" else 90)
+    frames = args.frames or default_frames(kind, scene)
     fps = getattr(args, "fps", 30) or 30
+    try:
+        require_renderer()  # before simulating: a missing driver is said at once
+    except RendererUnavailable as e:
+        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        return 1
 
     from ..sim.runner import Simulation
     from .renderer import Renderer

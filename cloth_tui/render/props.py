@@ -140,8 +140,8 @@ def _object_mesh(pv, pose):
         sx, sy, sz = (float(v) / 2 for v in pose.size)
         return pv.Box((-sx, sx, -sy, sy, -sz, sz))
     if pose.type == "capsule":
-        return pv.Capsule(direction=tuple(pose.normal), radius=pose.radius,
-                          cylinder_length=float(pose.size[1]), resolution=30).triangulate()
+        return pv.Capsule(direction=tuple(pose.axis), radius=pose.radius,
+                          cylinder_length=float(pose.length), resolution=30).triangulate()
     if pose.type == "plane":
         return pv.Plane(direction=tuple(pose.normal), i_size=2 * PLANE_HALF,
                         j_size=2 * PLANE_HALF)
@@ -164,7 +164,8 @@ class Objects:
             self.shapes.pop()
         for k, pose in enumerate(poses):
             shape = (pose.type, float(pose.radius), tuple(map(float, pose.size)),
-                     tuple(map(float, pose.normal)))
+                     tuple(map(float, pose.normal)), tuple(map(float, pose.axis)),
+                     float(pose.length))
             if k == len(self.actors):
                 mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
                 opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY

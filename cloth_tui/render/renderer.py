@@ -18,6 +18,7 @@ from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN
                        family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals,
                        view_plane_delta)
+from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
@@ -39,6 +40,7 @@ def check_size(w, h) -> tuple[int, int]:
 
 class Renderer:
     def __init__(self, scene, size=(640, 480)):
+        require_renderer()  # RendererUnavailable, not a segfault, where GL cannot start
         pv = pyvista_quiet()
         self.pv = pv
         self.size = check_size(*size)
@@ -231,7 +233,7 @@ class Renderer:
         else:
             self._update_cloth(positions)
         self._positions = positions
-        self.objects.update(getattr(snapshot, "objects", ()))
+        self.objects.update(snapshot.objects)
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0

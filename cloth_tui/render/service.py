@@ -19,6 +19,7 @@ from typing import Callable
 import numpy as np
 
 from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
+from .probe import RendererUnavailable
 
 VIDEO_FPS = 30.0
 MAX_REPEAT = 5              # frames a slow render may be repeated to keep the video in time
@@ -39,7 +40,7 @@ class Frame:
 
 @dataclass(frozen=True)
 class CaptureEvent:
-    kind: str          # 'screenshot' | 'video_started' | 'video_saved' | 'error'
+    kind: str          # 'screenshot' | 'video_started' | 'video_saved' | 'error' | 'unavailable'
     path: Path | None
     message: str
 
@@ -163,7 +164,8 @@ class RenderService:
         except Exception as e:  # no GL, say: the app keeps running without pictures
             self.error = e
             self._recording = False
-            self._emit("error", None, f"renderer unavailable: {type(e).__name__}: {e}")
+            reason = str(e) if isinstance(e, RendererUnavailable) else f"{type(e).__name__}: {e}"
+            self._emit("unavailable", None, reason)
             return
         self._start_preview()
         try:

@@ -10,9 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import TEXTURES_DIR
-
-BUILTIN = ("maze", "grass")
+from ..resources import textures_dir
 
 
 def maze_image(cells: int = 16, cell_px: int = 8, seed: int = 426) -> np.ndarray:
@@ -72,9 +70,10 @@ def grass_image(size: int = 64, seed: int = 7) -> np.ndarray:
 GENERATORS = {"maze": maze_image, "grass": grass_image}
 
 
-def write_builtin(folder: Path = TEXTURES_DIR) -> list[Path]:
+def write_builtin(folder: Path | None = None) -> list[Path]:
     import imageio.v3 as iio
 
+    folder = textures_dir() if folder is None else folder
     folder.mkdir(parents=True, exist_ok=True)
     out = []
     for name, make in GENERATORS.items():
@@ -90,7 +89,7 @@ def load_texture_image(name: str) -> np.ndarray | None:
     if name in ("", "none"):
         return None
     if name in GENERATORS:
-        path = TEXTURES_DIR / f"{name}.png"
+        path = textures_dir() / f"{name}.png"
         if not path.is_file():
             return GENERATORS[name]()
     else:

@@ -6,12 +6,14 @@ from __future__ import annotations
 
 import os
 
+OPENGL_WINDOW_ENV = "VTK_DEFAULT_OPENGL_WINDOW"
+OPENGL_WINDOW_DEFAULT = "vtkEGLRenderWindow"  # off-screen through EGL: no X display needed
 _ready = False
 
 
 def pyvista_quiet():
     global _ready
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    os.environ.setdefault(OPENGL_WINDOW_ENV, OPENGL_WINDOW_DEFAULT)
     import pyvista as pv
     if not _ready:
         from vtkmodules.vtkCommonCore import vtkLogger, vtkObject, vtkOutputWindow

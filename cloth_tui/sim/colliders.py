@@ -17,24 +17,17 @@ take the object's displacement over the substep so its velocity drags the cloth 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
+from .jit import FASTMATH
+from .protocols import Collider, ObjectPose
+
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
 ORBIT_PERIOD = 10.0   # s, one revolution (≈ 0.16 m/s: the original's slow drift)
 PLANE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x
-
-
-@dataclass(frozen=True)
-class ObjectPose:
-    """Where an object is now, for the renderer (a copy; never shared with the kernels)."""
-    type: str
-    center: tuple
-    radius: float = 0.0
-    size: tuple = (0.0, 0.0, 0.0)
-    normal: tuple = (0.0, 1.0, 0.0)
+AT_CENTRE = 1e-12     # m: a point this close to a centre or axis has no normal of its own
 
 
 # -- kernels --------------------------------------------------------------------------------
@@ -42,7 +35,7 @@ class ObjectPose:
 # shape's centre, and the outward unit normal there) and a collide_* kernel that applies the
 # friction rule with it. A blended point that would end inside the skin is projected out
 # again (a large slide can cut a corner of a curved shape).
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness):
     """F·posFriction + (1−F)·posNoFriction for particle i at distance d along normal n."""
     k = thickness - d
@@ -52,15 +45,15 @@ def _blend(x, x_prev, i, d, nx, ny, nz, dx, dy, dz, friction, thickness):
             friction * (x_prev[i, 2] + dz) + g * (x[i, 2] + k * nz))
 
 
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _sphere_distance(qx, qy, qz, r):
     dist = math.sqrt(qx * qx + qy * qy + qz * qz)
-    if dist < 1e-12:  # at the centre: any direction is nearest; choose up
+    if dist < AT_CENTRE:  # at the centre: any direction is nearest; choose up
         return -r, 0.0, 1.0, 0.0
     return dist - r, qx / dist, qy / dist, qz / dist
 
 
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _box_distance(qx, qy, qz, hx, hy, hz):
     """Axis-aligned box of half sides h."""
     ox = abs(qx) - hx
@@ -82,7 +75,7 @@ def _box_distance(qx, qy, qz, hx, hy, hz):
     return oz, 0.0, 0.0, sz
 
 
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
     """Points within r of the segment ±half·a (a unit) through the centre."""
     t = min(max(qx * ax + qy * ay + qz * az, -half), half)
@@ -90,41 +83,24 @@ def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
     ey = qy - t * ay
     ez = qz - t * az
     dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-    if dist < 1e-12:  # on the axis: leave perpendicular to it
+    if dist < AT_CENTRE:  # on the axis: leave perpendicular to it
         ex, ey, ez = (-ay, ax, 0.0) if abs(az) < 0.9 else (0.0, -az, ay)
         dist = math.sqrt(ex * ex + ey * ey + ez * ez)
         return -r, ex / dist, ey / dist, ez / dist
     return dist - r, ex / dist, ey / dist, ez / dist
 
 
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _plane_distance(qx, qy, qz, nx, ny, nz):
     d = qx * nx + qy * ny + qz * nz
     return d, nx, ny, nz
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def collide_floor(x, x_prev, inv_mass, height, friction, thickness):
-    """One-sided horizontal plane y = height: anything below is pushed up (the original)."""
-    for i in range(x.shape[0]):
-        d = x[i, 1] - height
-        if inv_mass[i] == 0.0 or d >= thickness:
-            continue
-        if x_prev[i, 1] > height and friction > 0.0:
-            px, py, pz = _blend(x, x_prev, i, d, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, friction,
-                                thickness)
-            x[i, 0] = px
-            x[i, 2] = pz
-            x[i, 1] = max(py, height + thickness)
-        else:
-            x[i, 1] = height + thickness
 
 
 SPHERE, BOX, CAPSULE, PLANE = 0, 1, 2, 3
 SHAPES = {"sphere": SPHERE, "box": BOX, "capsule": CAPSULE, "plane": PLANE}
 
 
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
 def _shape_distance(shape, qx, qy, qz, p, s):
     """Signed distance and outward normal of `shape` with parameters p (p[0:3] the centre, then
     sphere: r; box: half sides; capsule: axis, half length, r; plane: normal), for a point q
@@ -138,7 +114,7 @@ def _shape_distance(shape, qx, qy, qz, p, s):
     return _plane_distance(qx, qy, qz, s * p[3], s * p[4], s * p[5])
 
 
-@njit(nogil=True, cache=True, fastmath=True)
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def collide_shape(x, x_prev, inv_mass, side, shape, p, dx, dy, dz, friction, thickness):
     """The contact and friction rule for one object. side[i] = ±1 is the side of a plane the
     particle started on (an infinite plane cannot be walked around, so it keeps it); other
@@ -168,84 +144,40 @@ def collide_shape(x, x_prev, inv_mass, side, shape, p, dx, dy, dz, friction, thi
         x[i, 2] = qz
 
 
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
+def signed_distances(x, side, shape, p, out):
+    """out[i] = signed distance of point i from the true surface (negative inside), m: the
+    same distance function the contact kernel uses."""
+    cx, cy, cz = p[0], p[1], p[2]
+    for i in range(x.shape[0]):
+        d, _, _, _ = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, side[i])
+        out[i] = d
+
+
 # -- effects --------------------------------------------------------------------------------
-class CollideFloor:
-    name = "collide_floor"
+class ShapeCollider:
+    """One static shape, described by its kernel code and parameters (see _shape_distance)."""
 
-    def __init__(self, model, height: float, friction: float, thickness: float):
-        self.inv_mass = model.inv_mass
-        self.surface = height
-        self.friction, self.thickness = friction, thickness
+    moving = False
 
-    def apply(self, state, h, friction: float | None = None):
-        f = self.friction if friction is None else friction
-        collide_floor(state.x, state.x_prev, self.inv_mass, self.surface, f, self.thickness)
-
-    def penetration(self, x: np.ndarray) -> float:
-        """Deepest any particle is below the floor's surface, m."""
-        return float(max(0.0, self.surface - x[:, 1].min()))
-
-
-class ResolveContacts:
-    """After the constraint pass: particles it pulled back inside an object are projected out
-    again, without friction (friction acted once already, in the contact pass). Without this
-    a sheet landing on the sphere at 4 substeps sinks 7–11 mm for a moment."""
-
-    name = "resolve_contacts"
-
-    def __init__(self, colliders: list):
-        self.colliders = colliders
-
-    def apply(self, state, h):
-        for collider in self.colliders:
-            collider.apply(state, h, friction=0.0)
-
-
-def resolve_contacts(contact_effects: list) -> list:
-    """The post-constraint pass for the colliders among `contact_effects`, if any."""
-    colliders = [e for e in contact_effects if hasattr(e, "penetration")]
-    return [ResolveContacts(colliders)] if colliders else []
-
-
-def orbit_offset(t: float) -> np.ndarray:
-    """Displacement of a moving object at time t: a horizontal circle of ORBIT_RADIUS and
-    ORBIT_PERIOD that passes through the object's own position at t = 0 (it starts where the
-    scene puts it, moving along +x)."""
-    a = 2.0 * math.pi * t / ORBIT_PERIOD
-    return ORBIT_RADIUS * np.array([math.sin(a), 0.0, 1.0 - math.cos(a)])
-
-
-class ObjectCollider:
-    """A sphere, box, plane or capsule; static, or moving along the orbit."""
-
-    def __init__(self, model, kind: str, center, *, radius=0.25, size=(0.5, 0.2, 0.5),
-                 normal=(0.0, 1.0, 0.0), friction=0.9, thickness=0.005, moving=False):
-        self.name = f"collide_{kind}"
-        self.kind, self.moving = kind, moving
+    def __init__(self, model, name: str, shape: int, center, friction: float,
+                 thickness: float):
+        self.name = name
+        self.shape = shape
         self.inv_mass = model.inv_mass
         self.center0 = np.asarray(center, dtype=np.float64)
         self.center = self.center0.copy()
-        self.radius = float(radius)
-        self.size = np.asarray(size, dtype=np.float64)
-        nrm = np.asarray(normal, dtype=np.float64)
-        self.normal = nrm / np.linalg.norm(nrm)
+        self.params = np.zeros(8)  # centre, then the shape's own (see _shape_distance)
         self.friction, self.thickness = float(friction), float(thickness)
         self.side = np.ones(model.num_particles)  # plane: side of each particle
-        self._sides_known = False
-        self.shape = SHAPES[kind]
-        self.params = np.zeros(8)  # centre, then the shape's own (see _shape_distance)
-        if kind == "sphere":
-            self.params[3] = self.radius
-        elif kind == "box":
-            self.params[3:6] = 0.5 * self.size
-        elif kind == "capsule":
-            self.params[3:6] = self.normal
-            self.params[6:8] = 0.5 * self.size[1], self.radius
-        else:
-            self.params[3:6] = self.normal
+        self._sides_known = shape != PLANE
 
     def center_at(self, t: float) -> np.ndarray:
-        return self.center0 + orbit_offset(t) if self.moving else self.center0
+        return self.center0
+
+    def _sides(self, x: np.ndarray, center: np.ndarray) -> np.ndarray:
+        """±1: the side of a plane each point is on."""
+        return np.where((x - center) @ self.params[3:6] >= 0.0, 1.0, -1.0)
 
     def apply(self, state, h, friction: float | None = None):
         before, after = self.center_at(state.t), self.center_at(state.t + h)
@@ -254,28 +186,21 @@ class ObjectCollider:
         f = self.friction if friction is None else friction
         p = self.params
         p[0:3] = after
-        if self.kind == "plane" and not self._sides_known:
-            # the side each particle was on before this substep
-            self.side[:] = np.where((state.x_prev - before) @ self.normal >= 0.0, 1.0, -1.0)
+        if not self._sides_known:
+            self.side[:] = self._sides(state.x_prev, before)  # before this substep
             self._sides_known = True
         collide_shape(state.x, state.x_prev, self.inv_mass, self.side, self.shape, p,
                       d[0], d[1], d[2], f, self.thickness)
 
     def signed_distance(self, x: np.ndarray) -> np.ndarray:
-        """Distance of each point outside the true surface (negative inside), m."""
-        q = x - self.center
-        k = self.kind
-        if k == "sphere":
-            return np.linalg.norm(q, axis=1) - self.radius
-        if k == "box":
-            o = np.abs(q) - 0.5 * self.size
-            return np.linalg.norm(np.maximum(o, 0.0), axis=1) + np.minimum(o.max(axis=1), 0.0)
-        if k == "capsule":
-            half = 0.5 * self.size[1]
-            t = np.clip(q @ self.normal, -half, half)
-            return np.linalg.norm(q - t[:, None] * self.normal, axis=1) - self.radius
-        s = q @ self.normal  # plane: on each particle's own side
-        return s * self.side if self._sides_known else np.abs(s)
+        """Distance of each point outside the true surface (negative inside), m. A plane
+        whose particles' sides are not known yet counts each point on its own side."""
+        p = self.params.copy()
+        p[0:3] = self.center
+        side = self.side if self._sides_known else self._sides(x, self.center)
+        out = np.empty(len(x))
+        signed_distances(np.ascontiguousarray(x, dtype=np.float64), side, self.shape, p, out)
+        return out
 
     def penetration(self, x: np.ndarray) -> float:
         """Deepest any free particle is inside the true surface, m."""
@@ -285,11 +210,81 @@ class ObjectCollider:
         # signed_distance takes every particle: a plane's side is kept per particle
         return float(max(0.0, -self.signed_distance(x)[free].min()))
 
+    def pose(self, t: float) -> ObjectPose | None:
+        return None
+
+
+class Floor(ShapeCollider):
+    """The original's floor: the half-space below y = height, one-sided (anything below is
+    pushed up). The renderer draws it from the scene, so it has no pose."""
+
+    def __init__(self, model, height: float, friction: float, thickness: float):
+        super().__init__(model, "collide_floor", PLANE, (0.0, height, 0.0), friction,
+                         thickness)
+        self.params[3:6] = 0.0, 1.0, 0.0
+        self._sides_known = True  # every particle above: side[:] = +1
+
+
+class ObjectCollider(ShapeCollider):
+    """A sphere, box, plane or capsule; static, or moving along the orbit."""
+
+    def __init__(self, model, kind: str, center, *, radius=0.25, size=(0.5, 0.2, 0.5),
+                 normal=(0.0, 1.0, 0.0), axis=(1.0, 0.0, 0.0), length=0.5, friction=0.9,
+                 thickness=0.005, moving=False):
+        super().__init__(model, f"collide_{kind}", SHAPES[kind], center, friction, thickness)
+        self.kind, self.moving = kind, moving
+        self.radius = float(radius)
+        self.size = np.asarray(size, dtype=np.float64)
+        self.normal = _unit(normal)
+        self.axis = _unit(axis)
+        self.length = float(length)
+        if kind == "sphere":
+            self.params[3] = self.radius
+        elif kind == "box":
+            self.params[3:6] = 0.5 * self.size
+        elif kind == "capsule":
+            self.params[3:6] = self.axis
+            self.params[6:8] = 0.5 * self.length, self.radius
+        else:
+            self.params[3:6] = self.normal
+
+    def center_at(self, t: float) -> np.ndarray:
+        return self.center0 + orbit_offset(t) if self.moving else self.center0
+
     def pose(self, t: float) -> ObjectPose:
         c = self.center_at(t)
         return ObjectPose(self.kind, tuple(float(v) for v in c), self.radius,
                           tuple(float(v) for v in self.size),
-                          tuple(float(v) for v in self.normal))
+                          tuple(float(v) for v in self.normal),
+                          tuple(float(v) for v in self.axis), self.length)
+
+
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, dtype=np.float64)
+    return v / np.linalg.norm(v)
+
+
+class ResolveContacts:
+    """After the constraint pass: particles it pulled back inside an object are projected out
+    again, without friction (friction acted once already, in the contact pass). Without this
+    a sheet landing on the sphere at 4 substeps sinks 7–11 mm for a moment."""
+
+    name = "resolve_contacts"
+
+    def __init__(self, colliders: list[Collider]):
+        self.colliders = colliders
+
+    def apply(self, state, h):
+        for collider in self.colliders:
+            collider.apply(state, h, friction=0.0)
+
+
+def orbit_offset(t: float) -> np.ndarray:
+    """Displacement of a moving object at time t: a horizontal circle of ORBIT_RADIUS and
+    ORBIT_PERIOD that passes through the object's own position at t = 0 (it starts where the
+    scene puts it, moving along +x)."""
+    a = 2.0 * math.pi * t / ORBIT_PERIOD
+    return ORBIT_RADIUS * np.array([math.sin(a), 0.0, 1.0 - math.cos(a)])
 
 
 def single_object(kind: str) -> dict:
@@ -301,23 +296,24 @@ def single_object(kind: str) -> dict:
         "sphere": dict(center=(0.0, -0.25, 0.0), radius=0.25),
         "box": dict(center=(0.0, 0.0, 0.0), size=(0.5, 0.2, 0.5)),
         "plane": dict(center=(0.0, 0.0, 0.0), normal=(0.0, math.cos(tilt), math.sin(tilt))),
-        "capsule": dict(center=(0.0, -0.1, 0.0), radius=0.15, size=(0.0, 0.5, 0.0),
-                        normal=(1.0, 0.0, 0.0)),
+        "capsule": dict(center=(0.0, -0.1, 0.0), radius=0.15, length=0.5,
+                        axis=(1.0, 0.0, 0.0)),
     }[kind]
 
 
-def build_colliders(scene, model) -> list:
+def build_colliders(scene, model) -> list[Collider]:
     """Collider effects the scene enables: the floor, then scene.object, then [[objects]]."""
     s = scene.scene
     out = []
     if s.floor:
-        out.append(CollideFloor(model, s.floor_height, s.friction, s.thickness))
+        out.append(Floor(model, s.floor_height, s.friction, s.thickness))
     if s.object != "none":
         out.append(ObjectCollider(model, s.object, friction=s.friction, thickness=s.thickness,
                                   moving=s.moving, **single_object(s.object)))
     for o in scene.objects:
         out.append(ObjectCollider(model, o.type, o.center, radius=o.radius, size=o.size,
-                                  normal=o.normal, thickness=s.thickness,
+                                  normal=o.normal, axis=o.axis, length=o.length,
+                                  thickness=s.thickness,
                                   friction=s.friction if o.friction < 0 else o.friction,
                                   moving=o.motion == "orbit"))
     return out

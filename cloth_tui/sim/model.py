@@ -43,9 +43,6 @@ class ClothModel:
     def spacing(self) -> float:
         return self.size / (self.n - 1)
 
-    def index(self, i: int, j: int) -> int:
-        return i * self.n + j
-
 
 def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
     """Constraint pairs of an n×n grid for the enabled families, and each pair's family."""
@@ -119,7 +116,7 @@ def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> 
 def grid_triangles(n: int) -> np.ndarray:
     idx = np.arange(n * n).reshape(n, n)
     a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
-    # Alternate the diagonal per cell so the mesh has no preferred shear direction.
+    # One diagonal, (i, j+1)–(i+1, j), in every cell (alternating would change images and wind)
     t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
     t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
     return np.concatenate([t1, t2]).astype(np.int64)
@@ -190,7 +187,7 @@ def build_model(cloth, behavior) -> ClothModel:
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
     pins = pinned_indices(n, cloth.pinned, behavior.seed, cloth.pin_fraction)
-    if getattr(behavior, "wave", False):
+    if behavior.wave:
         # The wave drives the near edge (row n−1) and holds the far edge (row 0): both pinned.
         pins = np.union1d(pins, np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)]))
     mass = particle_masses(n, cloth.mass, cloth.mass_model)

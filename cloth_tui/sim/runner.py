@@ -20,7 +20,7 @@ from .measures import (constraint_error, elastic_energy, energy, gravitational_e
 from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
 from .substep_control import SubstepController
-from .xpbd import ProjectXPBDConstraints
+from .solvers import PositionBasedSolver
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
@@ -34,8 +34,10 @@ SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts a
 # a stable integrator only lose energy, an unstable one gains it exponentially.
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
-GUARD_EASE_FRAMES = 60  # frames between attempts to step down one guard level
+GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
+RUNAWAY_SPEED = 4.0  # × behavior.max_speed: a free particle this fast means divergence
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
+PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
 STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
 
 
@@ -175,7 +177,8 @@ class Simulation:
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
-        if float(np.max(np.abs(self.state.v[self._free]), initial=0.0)) > 4.0 * b.max_speed:
+        fastest = float(np.max(np.abs(self.state.v[self._free]), initial=0.0))
+        if fastest > RUNAWAY_SPEED * b.max_speed:
             return False
         if b.solver != "springs":
             return True
@@ -221,7 +224,11 @@ class Simulation:
 
     # -- reporting ------------------------------------------------------------------------
     def _lambdas(self) -> np.ndarray | None:
-        return xpbd_lambdas(self.step) if self.scene.behavior.solver == "xpbd" else None
+        """The xpbd multipliers of the last substep (the solver's force estimate)."""
+        solver = self.step.solver
+        if self.scene.behavior.solver == "xpbd" and isinstance(solver, PositionBasedSolver):
+            return solver.lambdas
+        return None
 
     def _energy(self) -> float:
         return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h)
@@ -271,17 +278,9 @@ class Simulation:
         """A snapshot with full statistics, or with `stats` (an earlier full set) refreshed
         by this frame's cheap ones."""
         stats = self.stats() if stats is None else stats | self.frame_stats()
-        poses = tuple(c.pose(self.state.t) for c in self.step.colliders if hasattr(c, "pose"))
+        poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
         return Snapshot(self.state.x.copy(), self.frames, self.state.t, stats,
                         self.model, self.scene, poses)
-
-
-def xpbd_lambdas(step) -> np.ndarray | None:
-    """The xpbd multipliers of the step's last substep."""
-    for effect in step.effects:
-        if isinstance(effect, ProjectXPBDConstraints):
-            return effect.lam
-    return None
 
 
 class SimulationThread:
@@ -370,7 +369,7 @@ class SimulationThread:
                         next_t = now + period
                 if changed:
                     self._publish(full=commanded)
-                wait = next_t - time.perf_counter() if not self.paused else 0.25
+                wait = next_t - time.perf_counter() if not self.paused else PAUSED_POLL_S
                 if wait > 0:
                     self._wake.wait(wait)
                     self._wake.clear()

@@ -6,7 +6,7 @@ k = behavior.stiffness (N/m) with damping kd = behavior.spring_damping (N·s/m) 
     f_a = [k (L − L0) + kd ((v_b − v_a)·n)] n,   f_b = −f_a,   n = (x_b − x_a)/L
 
 plus a drag −c·m·v with the rate c = −ln(1 − damping)/0.018 s⁻¹ (the same decay per second as
-the PBD solver's `damping`, see solvers.damping_factor) and the scene's force effects
+the PBD solver's `damping`, see stages.damping_factor) and the scene's force effects
 (gravity, ...). The state y = (x, v) is advanced by behavior.integrator over one substep h:
 
     explicit_euler    x' = x + h v,              v' = v + h a(x, v)                  order 1
@@ -27,17 +27,16 @@ the PBD solver's `damping`, see solvers.damping_factor) and the scene's force ef
                       matrix stays symmetric positive definite; it is solved matrix-free by
                       Jacobi-preconditioned conjugate gradients, warm-started from the last
                       substep's Δv (relative residual 1e-6, at most CG_MAX_ITERATIONS
-                      iterations).
+                      iterations; implicit.py).
 
 After the integrator, the substep runs the contact effects (colliders, self-collision; they
 read x_prev = the substep's start positions), then the pins, then `correct_velocities`: a
 particle a contact moved gets v = (x − x_prev)/h (the PBD rule, so contacts behave as with
 pbd), pinned particles get their anchors' velocity, every other particle keeps the
 integrator's velocity (which keeps the integrator's order). Speeds are clamped to max_speed.
-Force effects are evaluated by the integrator at every stage through `accumulate(x, v, t,
-out_accel)`; an effect without that method is adapted through its `apply(state, h)`, which
-must then only add to `state.accel`. A kinematic effect (forces.Wave, which moves the pins'
-anchors) also has its `apply` run once at the start of each substep.
+Force effects (protocols.ForceEffect) are evaluated by the integrator at every stage through
+`accumulate(x, v, t, out_accel)`; a kinematic one (forces.Wave, which moves the pins'
+anchors) has its `apply` run once at the start of each substep instead.
 """
 
 from __future__ import annotations
@@ -48,10 +47,9 @@ import numpy as np
 from numba import njit
 
 from ..scene import ORIGINAL_TIMESTEP, integrator_for
-from . import solvers
-
-CG_TOLERANCE = 1e-6        # relative residual ‖r‖/‖b‖ at which conjugate gradients stops
-CG_MAX_ITERATIONS = 400    # cap per substep; a stiff, large sheet may stop here (still stable)
+from .implicit import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
+from .jit import FASTMATH
+from .protocols import Effect, ForceEffect
 
 ORDERS = {"explicit_euler": 1, "symplectic_euler": 1, "verlet": 2, "midpoint": 2, "rk4": 4,
           "implicit_euler": 1}
@@ -64,7 +62,7 @@ def drag_rate(damping: float) -> float:
 
 # --- kernels ----------------------------------------------------------------------------------
 
-@njit(nogil=True, cache=True, fastmath=True)
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
     """out += (spring forces)/m − drag·v for every free particle."""
     for e in range(edges.shape[0]):
@@ -74,7 +72,7 @@ def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         L = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if L < 1e-12:
+        if L < DEGENERATE_LENGTH:
             continue
         nx = dx / L
         ny = dy / L
@@ -99,7 +97,7 @@ def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
                 out[i, 2] -= drag * v[i, 2]
 
 
-@njit(nogil=True, cache=True, fastmath=True)
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def zero_rows(a, rows):
     for k in range(rows.shape[0]):
         i = rows[k]
@@ -108,7 +106,7 @@ def zero_rows(a, rows):
         a[i, 2] = 0.0
 
 
-@njit(nogil=True, cache=True, fastmath=True)
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def restore_rows(a, b, rows):
     for k in range(rows.shape[0]):
         i = rows[k]
@@ -117,190 +115,7 @@ def restore_rows(a, b, rows):
         a[i, 2] = b[i, 2]
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def spring_energy(x, edges, rest, k):
-    e_sum = 0.0
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        c = math.sqrt(dx * dx + dy * dy + dz * dz) - rest[e]
-        e_sum += 0.5 * k * c * c
-    return e_sum
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def _spring_jacobian(x, edges, rest, dirs, tension):
-    """Per spring: unit direction n and the clamped transverse factor max(0, 1 − L0/L)."""
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        L = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if L < 1e-12:
-            dirs[e, 0] = 0.0
-            dirs[e, 1] = 0.0
-            dirs[e, 2] = 0.0
-            tension[e] = 0.0
-            continue
-        dirs[e, 0] = dx / L
-        dirs[e, 1] = dy / L
-        dirs[e, 2] = dz / L
-        tension[e] = max(0.0, 1.0 - rest[e] / L)
-
-
-@njit(nogil=True, cache=True, fastmath=True, inline="always")
-def _spring_block_product(p, a, b, nx, ny, nz, s, ck, cd):
-    """One spring's block of the system times (p_a − p_b):
-    (ck·[n nᵀ + s (I − n nᵀ)] + cd·n nᵀ)(p_a − p_b), the stiffness part with the transverse
-    term s clamped to tension, the damping part along the spring only."""
-    ux = p[a, 0] - p[b, 0]
-    uy = p[a, 1] - p[b, 1]
-    uz = p[a, 2] - p[b, 2]
-    nu = nx * ux + ny * uy + nz * uz
-    axial = ck * (1.0 - s) * nu + cd * nu
-    return ck * s * ux + axial * nx, ck * s * uy + axial * ny, ck * s * uz + axial * nz
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
-    """y = A p with A = diag_mass − ck·K̂ − cd·D̂ on the free particles, identity on pinned.
-    K̂ per spring is [n nᵀ + s (I − n nᵀ)] coupling a and b (ck = h²k), D̂ = n nᵀ (cd = h·kd)."""
-    for i in range(p.shape[0]):
-        if free[i]:
-            y[i, 0] = diag_mass[i] * p[i, 0]
-            y[i, 1] = diag_mass[i] * p[i, 1]
-            y[i, 2] = diag_mass[i] * p[i, 2]
-        else:
-            y[i, 0] = p[i, 0]
-            y[i, 1] = p[i, 1]
-            y[i, 2] = p[i, 2]
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        wx, wy, wz = _spring_block_product(p, a, b, dirs[e, 0], dirs[e, 1], dirs[e, 2],
-                                           tension[e], ck, cd)
-        if free[a]:
-            y[a, 0] += wx
-            y[a, 1] += wy
-            y[a, 2] += wz
-        if free[b]:
-            y[b, 0] -= wx
-            y[b, 1] -= wy
-            y[b, 2] -= wz
-
-
-@njit(nogil=True, cache=True, fastmath=True)
-def solve_implicit_euler(x, v, accel, mass, free, edges, rest, k, kd, drag, h,
-                         dirs, tension, dv, r, z, p, q, diag, tol, max_iter):
-    """Linearised backward Euler: solve (M − h²K − hD) Δv = h (f + h K v) for Δv by
-    Jacobi-preconditioned CG, then v += Δv, x += h v. Returns the CG iterations used."""
-    n = x.shape[0]
-    _spring_jacobian(x, edges, rest, dirs, tension)
-    ck = h * h * k
-    cd = h * kd
-    dm = 1.0 + h * drag
-    # right-hand side h (f + h K v), f = m·accel (accel already holds springs, drag and the
-    # external forces); the Jacobi diagonal of the system alongside
-    for i in range(n):
-        for c in range(3):
-            r[i, c] = h * mass[i] * accel[i, c] if free[i] else 0.0
-            diag[i, c] = mass[i] * dm if free[i] else 1.0
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        nx = dirs[e, 0]
-        ny = dirs[e, 1]
-        nz = dirs[e, 2]
-        s = tension[e]
-        # h² (K v)_a = −h² k [n nᵀ + s (I − n nᵀ)] (v_a − v_b)
-        wx, wy, wz = _spring_block_product(v, a, b, nx, ny, nz, s, ck, 0.0)
-        dxx = ck * (s + (1.0 - s) * nx * nx) + cd * nx * nx
-        dyy = ck * (s + (1.0 - s) * ny * ny) + cd * ny * ny
-        dzz = ck * (s + (1.0 - s) * nz * nz) + cd * nz * nz
-        if free[a]:
-            r[a, 0] -= wx
-            r[a, 1] -= wy
-            r[a, 2] -= wz
-            diag[a, 0] += dxx
-            diag[a, 1] += dyy
-            diag[a, 2] += dzz
-        if free[b]:
-            r[b, 0] += wx
-            r[b, 1] += wy
-            r[b, 2] += wz
-            diag[b, 0] += dxx
-            diag[b, 1] += dyy
-            diag[b, 2] += dzz
-    # CG warm-started from the previous substep's Δv (accelerations change little from one
-    # substep to the next): r = b − A Δv
-    bnorm2 = 0.0
-    finite = True
-    for i in range(n):
-        for c in range(3):
-            bnorm2 += r[i, c] * r[i, c]
-            finite = finite and math.isfinite(dv[i, c])
-    if bnorm2 == 0.0 or not finite:
-        dv[...] = 0.0
-    dmass = mass * dm
-    _apply_system(dv, q, edges, dirs, tension, dmass, free, ck, cd)
-    rz = 0.0
-    for i in range(n):
-        for c in range(3):
-            if not free[i]:
-                dv[i, c] = 0.0
-            r[i, c] -= q[i, c] if free[i] else 0.0
-            z[i, c] = r[i, c] / diag[i, c]
-            p[i, c] = z[i, c]
-            rz += r[i, c] * z[i, c]
-    it = 0
-    if bnorm2 > 0.0:
-        stop2 = tol * tol * bnorm2
-        rr = 0.0
-        for i in range(n):
-            for c in range(3):
-                rr += r[i, c] * r[i, c]
-        while it < max_iter and rr > stop2:
-            _apply_system(p, q, edges, dirs, tension, dmass, free, ck, cd)
-            pq = 0.0
-            for i in range(n):
-                for c in range(3):
-                    pq += p[i, c] * q[i, c]
-            if pq <= 0.0:
-                break
-            alpha = rz / pq
-            rr = 0.0
-            for i in range(n):
-                for c in range(3):
-                    dv[i, c] += alpha * p[i, c]
-                    r[i, c] -= alpha * q[i, c]
-                    rr += r[i, c] * r[i, c]
-            it += 1
-            if rr <= stop2:
-                break
-            rz_new = 0.0
-            for i in range(n):
-                for c in range(3):
-                    z[i, c] = r[i, c] / diag[i, c]
-                    rz_new += r[i, c] * z[i, c]
-            beta = rz_new / rz
-            rz = rz_new
-            for i in range(n):
-                for c in range(3):
-                    p[i, c] = z[i, c] + beta * p[i, c]
-    for i in range(n):
-        if free[i]:
-            for c in range(3):
-                v[i, c] += dv[i, c]
-                x[i, c] += h * v[i, c]
-    return it
-
-
-@njit(nogil=True, cache=True, fastmath=True)
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
     """After contacts and pins: a particle a contact (or pin) moved takes the PBD velocity
     (x − x_prev)/h; the others keep the integrator's. Speeds are clamped to max_speed."""
@@ -322,39 +137,12 @@ def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
 
 # --- effects ----------------------------------------------------------------------------------
 
-class _StateView:
-    """What a force effect's `apply(state, h)` sees when adapted to `accumulate`."""
-    __slots__ = ("x", "x_prev", "v", "accel", "anchors", "t", "steps")
-
-
-def force_accumulator(effect, h: float):
-    """`accumulate(x, v, t, out_accel)` of a force effect; adapts `apply(state, h)` (which must
-    only add to state.accel) for effects that do not have it."""
-    if hasattr(effect, "accumulate"):
-        return effect.accumulate
-    view = _StateView()
-    view.steps = 0
-    view.anchors = None
-
-    def accumulate(x, v, t, out_accel):
-        view.x, view.x_prev, view.v, view.accel, view.t = x, x, v, out_accel, t
-        effect.apply(view, h)
-
-    return accumulate
-
-
-def is_kinematic(effect) -> bool:
-    """An effect that drives the state directly (forces.Wave moves the pins' anchors) rather
-    than only adding acceleration: its `apply` runs once per substep before integrating."""
-    return bool(getattr(effect, "kinematic", type(effect).__name__ == "Wave"))
-
-
 class IntegrateSprings:
     """One substep of the spring system with the chosen integrator. Named after it
     (integrate_rk4, integrate_implicit_euler, ...). Sets x_prev to the start positions and
     leaves the integrator's end positions in `x_pred` for `correct_velocities`."""
 
-    def __init__(self, model, behavior, force_effects: list, h: float):
+    def __init__(self, model, behavior, force_effects: list[ForceEffect]):
         self.integrator = integrator_for(behavior)  # `auto` resolved for springs
         if self.integrator not in ORDERS:
             raise ValueError(f"unknown integrator {self.integrator!r}")
@@ -363,9 +151,13 @@ class IntegrateSprings:
         self.k = float(behavior.stiffness)
         self.kd = float(behavior.spring_damping)
         self.drag = drag_rate(behavior.damping)
-        self.forces = [force_accumulator(f, h) for f in force_effects]
-        # Kinematic drives (the wave moves pin anchors) still run once per substep, as with pbd.
-        self.kinematic = [f for f in force_effects if is_kinematic(f)]
+        self.forces = [f.accumulate for f in force_effects if not f.kinematic]
+        # Kinematic drives (the wave moves pin anchors) run once per substep, as with pbd.
+        self.kinematic = [f for f in force_effects if f.kinematic]
+        self._advance = {"explicit_euler": self._explicit_euler,
+                         "symplectic_euler": self._symplectic_euler, "verlet": self._verlet,
+                         "midpoint": self._midpoint, "rk4": self._rk4,
+                         "implicit_euler": self._implicit_euler}[self.integrator]
         self.cg_iterations = 0
         n = model.num_particles
         z = lambda: np.zeros((n, 3))  # noqa: E731
@@ -377,7 +169,8 @@ class IntegrateSprings:
             m = max(1, model.num_constraints)
             self._dirs = np.zeros((m, 3))
             self._tension = np.zeros(m)
-            self._cg = [z() for _ in range(5)]
+            self.dv = z()  # Δv of the last substep: the next solve's warm start
+            self._cg = [z() for _ in range(4)]
 
     def accel(self, x, v, t, out):
         """out = a(x, v, t): external forces, springs, drag; zero on pinned particles."""
@@ -395,7 +188,7 @@ class IntegrateSprings:
         for effect in self.kinematic:
             effect.apply(state, h)
         state.x_prev[...] = x
-        getattr(self, "_" + self.integrator)(x, v, t, h)
+        self._advance(x, v, t, h)
         restore_rows(x, state.x_prev, self.model.pinned)  # pins move only to their anchors
         self.x_pred[...] = x
         state.accel.fill(0.0)
@@ -453,10 +246,10 @@ class IntegrateSprings:
     def _implicit_euler(self, x, v, t, h):
         m = self.model
         a = self.accel(x, v, t, self._a[0])
-        dv, r, z, p, q = self._cg
+        r, z, p, q = self._cg
         self.cg_iterations = solve_implicit_euler(
             x, v, a, m.mass, self._free, m.edges, m.rest_length, self.k, self.kd, self.drag,
-            h, self._dirs, self._tension, dv, r, z, p, q, self._a[1], CG_TOLERANCE,
+            h, self._dirs, self._tension, self.dv, r, z, p, q, self._a[1], CG_TOLERANCE,
             CG_MAX_ITERATIONS)
 
 
@@ -473,16 +266,21 @@ class CorrectVelocities:
                           1.0 / h, self.max_speed)
 
 
-def assemble(scene, model, h: float, force_effects: list, contact_effects: list) -> list:
-    """integrate_<integrator> (forces and springs inside) → contacts → (tethers) → pins →
-    velocities."""
-    b = scene.behavior
-    integrate = IntegrateSprings(model, b, force_effects, h)
-    effects = [integrate]
-    effects += contact_effects
-    if getattr(model, "tether_pin", None) is not None and hasattr(solvers, "EnforceTethers"):
-        effects.append(solvers.EnforceTethers(model))  # a position projection, like contacts
-    if len(model.pinned):
-        effects.append(solvers.ApplyPins(model))
-    effects.append(CorrectVelocities(model, integrate, b.max_speed))
-    return effects
+class SpringSolver:
+    """Force-based: the integrator evaluates springs and force effects itself; there is no
+    constraint stage; velocities are the integrator's except where a contact or pin moved a
+    particle."""
+
+    def __init__(self, model, behavior, forces: list[ForceEffect]):
+        self.name = "springs"
+        self.integrator = IntegrateSprings(model, behavior, forces)
+        self._velocities = CorrectVelocities(model, self.integrator, behavior.max_speed)
+
+    def integrate(self) -> list[Effect]:
+        return [self.integrator]
+
+    def constraints(self) -> list[Effect]:
+        return []
+
+    def velocities(self) -> Effect:
+        return self._velocities

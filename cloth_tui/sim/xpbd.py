@@ -1,120 +1,148 @@
-"""XPBD: compliant position-based constraints (Macklin, Müller, Chentanez 2016).
+"""Distance constraints in XPBD form (Macklin, Müller, Chentanez 2016); PBD is α = 0.
 
-Each distance constraint C = |x_b − x_a| − L0 has compliance α = behavior.compliance (m/N,
-the inverse of a spring stiffness). Per substep h, with α̃ = α/h² and a multiplier λ per
-constraint reset to 0 at the start of the substep, every pass of coloured Gauss-Seidel does
+Each distance constraint C = |x_b − x_a| − L0 has compliance α (m/N, the inverse of a spring
+stiffness). Per substep h, with α̃ = α/h² and a multiplier λ per constraint reset to 0 at the
+start of the substep, every pass of coloured Gauss-Seidel does
 
     Δλ = (−C − α̃ λ) / (w_a + w_b + α̃),   λ += Δλ,   x_a −= w_a Δλ n,   x_b += w_b Δλ n
 
 (n = (x_b − x_a)/|x_b − x_a|, w = inverse masses). The iteration converges to the implicit
 Euler step of the elastic energy C²/(2α), so the material's stiffness is 1/α whatever the
-number of iterations or the timestep; PBD (α = 0, no λ) instead gets stiffer with more
-iterations and smaller steps. α = 0 gives rigid constraints (XPBD then equals PBD).
-
-The rest of the substep is the PBD solver's: verlet prediction with damping, contacts,
-projection, pins, v = (x − x_prev)/h.
+number of iterations or the timestep. With α = 0 the update is PBD's projection exactly
+(Δx = −w C n / (w_a + w_b)), which instead gets stiffer with more iterations and smaller
+steps: one kernel serves both solvers (Ten Minute Physics' form).
 """
 
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from numba import njit, prange
 
-from . import colliders, solvers
+from .jit import FASTMATH
+
+# Below this many constraints per colour, thread start-up costs more than it saves.
+PARALLEL_MIN_PER_COLOR = 4096
+COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def _project_range(x, inv_mass, edges, rest, lam, alpha_t, lo, hi):
-    """One Gauss-Seidel pass over constraints [lo, hi). (Written out in one loop: a helper
-    called per constraint made the kernel 3× slower.)"""
-    for e in range(lo, hi):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        wa = inv_mass[a]
-        wb = inv_mass[b]
-        w = wa + wb + alpha_t
-        if wa + wb == 0.0:
-            continue
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        d2 = dx * dx + dy * dy + dz * dz
-        if d2 < 1e-24:
-            continue
-        d = math.sqrt(d2)
-        dlam = (rest[e] - d - alpha_t * lam[e]) / w
-        lam[e] += dlam
-        s = dlam / d
-        x[a, 0] -= wa * s * dx
-        x[a, 1] -= wa * s * dy
-        x[a, 2] -= wa * s * dz
-        x[b, 0] += wb * s * dx
-        x[b, 1] += wb * s * dy
-        x[b, 2] += wb * s * dz
+@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+def _project_one(x, inv_mass, a, b, rest, lam, alpha_t):
+    """Projects one constraint; returns its Δλ."""
+    wa = inv_mass[a]
+    wb = inv_mass[b]
+    if wa + wb == 0.0:
+        return 0.0
+    dx = x[b, 0] - x[a, 0]
+    dy = x[b, 1] - x[a, 1]
+    dz = x[b, 2] - x[a, 2]
+    d2 = dx * dx + dy * dy + dz * dz
+    if d2 < COINCIDENT * COINCIDENT:
+        # Coincident ends have no direction to separate along: pick one from the indices
+        # (any fixed, pair-dependent direction will do), so a crushed sheet unfolds instead
+        # of staying collapsed.
+        dx = math.sin(1.3 * a + 7.1 * b)
+        dy = math.cos(3.7 * a - 1.9 * b)
+        dz = math.sin(2.3 * a + 0.7 * b + 1.0)
+        scale = COINCIDENT / math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx *= scale
+        dy *= scale
+        dz *= scale
+        d2 = COINCIDENT * COINCIDENT
+    d = math.sqrt(d2)
+    s = (rest - d - alpha_t * lam) / (d * (wa + wb + alpha_t))  # Δλ/d: one division
+    x[a, 0] -= wa * s * dx
+    x[a, 1] -= wa * s * dy
+    x[a, 2] -= wa * s * dz
+    x[b, 0] += wb * s * dx
+    x[b, 1] += wb * s * dy
+    x[b, 2] += wb * s * dz
+    return s * d
 
 
-@njit(nogil=True, cache=True, fastmath=True)
-def project_xpbd_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, iterations):
+@njit(nogil=True, cache=True, fastmath=FASTMATH)
+def project_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, iterations):
     """`iterations` passes of coloured Gauss-Seidel (edges are sorted by colour), serial.
-    λ is reset here: it accumulates over the passes of one substep only."""
-    for e in range(lam.shape[0]):
-        lam[e] = 0.0
+    λ is reset here: it accumulates over the passes of one substep only. With α = 0 (PBD)
+    λ does not enter the update and is not kept (lam stays 0, as the rigid limit has no
+    elastic energy): its loads and stores cost ~15 % of the kernel's time."""
+    lam[:] = 0.0
     for _ in range(iterations):
-        _project_range(x, inv_mass, edges, rest, lam, alpha_t, 0, edges.shape[0])
+        if alpha_t == 0.0:
+            for e in range(edges.shape[0]):
+                _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0, 0.0)
+        else:
+            for e in range(edges.shape[0]):
+                lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
+                                       lam[e], alpha_t)
 
 
-@njit(nogil=True, cache=True, fastmath=True, parallel=True)
-def project_xpbd_constraints_parallel(x, inv_mass, edges, rest, color_offsets, lam, alpha_t,
-                                      iterations):
-    """Same projection; the constraints of one colour share no particle, so a colour is split
-    across threads (in blocks) without races."""
-    for e in prange(lam.shape[0]):
-        lam[e] = 0.0
-    block = 1024
+@njit(nogil=True, cache=True, fastmath=FASTMATH, parallel=True)
+def project_constraints_parallel(x, inv_mass, edges, rest, color_offsets, lam, alpha_t,
+                                 iterations):
+    """Same projection; the constraints of one colour share no particle, so each colour is
+    split across threads without races."""
+    lam[:] = 0.0
     for _ in range(iterations):
         for c in range(color_offsets.shape[0] - 1):
-            lo = color_offsets[c]
-            hi = color_offsets[c + 1]
-            nb = (hi - lo + block - 1) // block
-            for k in prange(nb):
-                _project_range(x, inv_mass, edges, rest, lam, alpha_t, lo + k * block,
-                               min(hi, lo + (k + 1) * block))
+            if alpha_t == 0.0:
+                for e in prange(color_offsets[c], color_offsets[c + 1]):
+                    _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0, 0.0)
+            else:
+                for e in prange(color_offsets[c], color_offsets[c + 1]):
+                    lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
+                                           lam[e], alpha_t)
 
 
-class ProjectXPBDConstraints:
-    name = "project_xpbd_constraints"
+class ProjectConstraints:
+    """Projects the constraints with the serial or the parallel kernel, whichever is faster
+    now. Two threads win on an idle machine at large sheets; when the render and UI threads
+    (or anything else) hold the other core, a parallel kernel waits at every colour's barrier
+    and loses several times over. So the choice is measured, not assumed: the other kernel is
+    re-timed every PROBE_EVERY calls.
 
-    def __init__(self, model, compliance: float, iterations: int, h: float):
+    `lambdas` holds the multipliers λ of the last substep, N·s², one per constraint in
+    model.edges order (the constraint force is λ/h²); zero for PBD (α = 0), which does not
+    keep them."""
+
+    PROBE_EVERY = 64
+    SMOOTHING = 0.2  # weight of the newest timing in the running cost estimate
+
+    def __init__(self, model, iterations: int, compliance: float, h: float, name: str):
+        self.name = name
         self.model = model
         self.iterations = iterations
         self.alpha_t = compliance / (h * h)
-        self.lam = np.zeros(model.num_constraints)  # λ of the current substep, N·s²
+        self.lambdas = np.zeros(model.num_constraints)
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
-        self.kernel = (project_xpbd_constraints_parallel
-                       if per_color >= solvers.PARALLEL_MIN_PER_COLOR
-                       else project_xpbd_constraints)
+        self.kernels = [project_constraints]
+        if per_color >= PARALLEL_MIN_PER_COLOR:
+            self.kernels.append(project_constraints_parallel)
+        self.cost = [0.0] * len(self.kernels)  # seconds per call, latest estimate
+        self.choice = len(self.kernels) - 1
+        self.calls = 0
+
+    @property
+    def kernel_name(self) -> str:
+        return self.kernels[self.choice].__name__
 
     def apply(self, state, h):
         m = self.model
-        self.kernel(state.x, m.inv_mass, m.edges, m.rest_length, m.color_offsets, self.lam,
-                    self.alpha_t, self.iterations)
-
-
-def assemble(scene, model, h: float, force_effects: list, contact_effects: list) -> list:
-    """forces → integrate_verlet → contacts → (tethers) → project_xpbd_constraints → pins →
-    velocities."""
-    b = scene.behavior
-    effects = list(force_effects)
-    effects.append(solvers.IntegrateVerlet(model, b.damping, h, b.max_speed))
-    effects += contact_effects
-    if getattr(model, "tether_pin", None) is not None and hasattr(solvers, "EnforceTethers"):
-        effects.append(solvers.EnforceTethers(model))  # as in pbd: before the constraints
-    if model.num_constraints:
-        effects.append(ProjectXPBDConstraints(model, b.compliance, b.iterations, h))
-        effects += colliders.resolve_contacts(contact_effects)
-    if len(model.pinned):
-        effects.append(solvers.ApplyPins(model))
-    effects.append(solvers.UpdateVelocities())
-    return effects
+        args = (state.x, m.inv_mass, m.edges, m.rest_length, m.color_offsets, self.lambdas,
+                self.alpha_t, self.iterations)
+        if len(self.kernels) == 1:
+            self.kernels[0](*args)
+            return
+        self.calls += 1
+        k = self.choice
+        if self.calls % self.PROBE_EVERY == 0 or not all(self.cost):
+            k = next((i for i, c in enumerate(self.cost) if not c), 1 - self.choice)
+        t0 = time.perf_counter()
+        self.kernels[k](*args)
+        dt = time.perf_counter() - t0
+        w = self.SMOOTHING
+        self.cost[k] = dt if k != self.choice or not self.cost[k] else \
+            (1.0 - w) * self.cost[k] + w * dt
+        self.choice = int(self.cost[1] < self.cost[0]) if all(self.cost) else self.choice

@@ -63,9 +63,10 @@ class ClothApp(App):
         self._zoom = 1.0
         self._stopped = False
         self._crosshair_placed = False
+        self._no_preview: str | None = None  # why there are no pictures, once known
+        self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
-        self.key_log: list[tuple[str, float]] = []  # (what, perf_counter) for latency checks
 
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -91,8 +92,7 @@ class ClothApp(App):
             self.renderer.start()
         except Exception as e:  # no GL, no renderer: the app still simulates
             self.renderer = None
-            self.notify(f"renderer unavailable: {type(e).__name__}: {e}", severity="error",
-                        timeout=10)
+            self._show_no_preview(f"{type(e).__name__}: {e}")
         self._start_sim(paused=self.start_paused)
         self.set_interval(0.2, self._refresh_status)
         if self.tame_gc:
@@ -152,8 +152,6 @@ class ClothApp(App):
                               f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
-        if self.key_log and self.key_log[-1][0] != "shown":
-            self.key_log.append(("shown", time.perf_counter()))
 
     def _place_crosshair(self) -> bool:
         """Put the crosshair on the particle nearest the middle of the sheet, by picking a
@@ -181,9 +179,20 @@ class ClothApp(App):
         self.notify(f"The simulation stopped: {text}. Press r to restart.",
                     severity="error", timeout=30)
 
+    def _show_no_preview(self, reason: str) -> None:
+        """The renderer cannot start: say so where the picture would be, in the status line
+        and once as a notification; the simulation runs on."""
+        self._no_preview = reason
+        for preview in self.query(Preview):
+            preview.show_placeholder(f"no preview: {reason}")
+        self.notify(f"No preview: {reason}", severity="error", timeout=30)
+        self._refresh_status()
+
     def on_captured(self, message: Captured) -> None:
         ev = message.event
-        if ev.kind == "error":
+        if ev.kind == "unavailable":
+            self._show_no_preview(ev.message)
+        elif ev.kind == "error":
             self.notify(ev.message or "capture failed", title="Capture failed",
                         severity="error", timeout=10)
         elif ev.kind == "screenshot":
@@ -276,10 +285,8 @@ class ClothApp(App):
         return True
 
     def _log_key(self, what: str) -> None:
-        self.key_log.append((what, time.perf_counter()))
         if self._debug is not None:
-            self._debug.write(f"{self.key_log[-1][1]:.4f} key {what}\n")
-        del self.key_log[:-200]
+            self._debug.write(f"{time.perf_counter():.4f} key {what}\n")
 
     def action_pause(self) -> None:
         if self.sim is not None:
@@ -365,6 +372,15 @@ class ClothApp(App):
     def action_unfocus(self) -> None:
         self.set_focus(None)
 
+    def _handle_exception(self, error: Exception) -> None:
+        """An exception nothing caught ends the app as any internal error of the command
+        line does: one line and a log with the traceback (run_app hands the exception to
+        cli.main), never Textual's full-screen traceback."""
+        if self.crash is None:
+            self.crash = error
+        super()._handle_exception(error)  # return code 1, closes the app, tells the Pilot
+        self._exit_renderables.clear()    # what Textual would print after the app closed
+
     async def action_quit(self) -> None:
         self.shutdown()
         self.exit(0)
@@ -376,6 +392,8 @@ class ClothApp(App):
         paused = bool(self.sim is not None and self.sim.paused)
         text = self.readout.text(paused=paused, recording=recording,
                                  iterations=b.iterations, substeps=b.substeps)
+        if self._no_preview is not None:
+            text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
         for bar in self.query(StatusBar):  # none while the app is closing
             bar.show(text, self.readout.ms_history)
 
@@ -408,7 +426,8 @@ def _tame_garbage_collector() -> None:
 
 
 def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
-    """Create the captures folder (exit 2 if impossible), run the app, return its exit code."""
+    """Create the captures folder (exit 2 if impossible), run the app, return its exit code.
+    An exception that ended the app is raised again here, once the terminal is restored."""
     captures_dir = Path(captures_dir)
     try:
         captures_dir.mkdir(parents=True, exist_ok=True)
@@ -421,4 +440,6 @@ def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
     kwargs.setdefault("tame_gc", True)  # process-wide, so only for the real app, not tests
     app = ClothApp(scene, captures_dir, **kwargs)
     app.run()
+    if app.crash is not None:
+        raise app.crash  # the terminal is restored: cli.main logs it and prints one line
     return app.return_code or 0

@@ -8,6 +8,8 @@ Segment per run of equal cells, with Rich styles cached by packed colour pair.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 from rich.color import Color
 from rich.segment import Segment
@@ -105,7 +107,8 @@ class Preview(Widget):
             self.u, self.v = u, v
 
     class Drag(Message):
-        """The grabbed point moved by (du, dv) image fractions; (dx_px, dy_px) in pixels."""
+        """The grabbed point moved by (du, dv) image fractions, on a preview of
+        (width_px, height_px) half-block pixels (its columns and twice its rows)."""
 
         def __init__(self, du: float, dv: float, width_px: int, height_px: int) -> None:
             super().__init__()
@@ -124,6 +127,12 @@ class Preview(Widget):
         self.crosshair: tuple[float, float] = (0.5, 0.5)
         self.frames_shown = 0
         self._drag_from: tuple[float, float] | None = None
+        self._placeholder = "waiting for the renderer…"  # shown, centred, until an image
+
+    def show_placeholder(self, text: str) -> None:
+        """Text in place of a picture, e.g. why there will be none; wrapped to fit."""
+        self._placeholder = text
+        self.refresh()
 
     # -- data in -------------------------------------------------------------------------
     def show_image(self, image: np.ndarray) -> None:
@@ -160,10 +169,13 @@ class Preview(Widget):
         if y < len(self._strips):
             return self._strips[y]
         width = self.size.width
-        if self._image is None and y == self.size.height // 2:
-            text = "waiting for the renderer…"[:width]
-            pad = max((width - len(text)) // 2, 0)
-            return Strip([Segment(" " * pad + text)]).extend_cell_length(width)
+        if self._image is None:
+            lines = textwrap.wrap(self._placeholder, max(width - 2, 1)) or [""]
+            k = y - (self.size.height - len(lines)) // 2
+            if 0 <= k < len(lines):
+                text = lines[k][:width]
+                pad = max((width - len(text)) // 2, 0)
+                return Strip([Segment(" " * pad + text)]).extend_cell_length(width)
         return Strip.blank(width)
 
     def get_content_width(self, container: Size, viewport: Size) -> int:

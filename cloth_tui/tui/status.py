@@ -139,7 +139,7 @@ class StatusBar(Vertical):
         self._text = Static("starting…", id="status-text")
         self._cost = Static("", id="cost-text")
         self._spark = Sparkline([0.0], id="ms-spark", summary_function=max)
-        self._spark.tooltip = "ms per simulation step, last 60 frames"
+        self._spark.tooltip = "simulation ms per frame, last 80 frames (a bar: its worst)"
         yield self._text
         with Horizontal(id="cost-row"):
             yield self._cost

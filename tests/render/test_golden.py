@@ -24,8 +24,8 @@ BAD_PIXEL = 48
 
 OBJECTS = (ObjectPose("sphere", (-0.3, -0.3, 0.2), radius=0.2),
            ObjectPose("box", (0.3, -0.4, -0.2), size=(0.3, 0.2, 0.3)),
-           ObjectPose("capsule", (0.3, -0.3, 0.35), radius=0.08, size=(0, 0.3, 0),
-                      normal=(1.0, 0.0, 0.0)),
+           ObjectPose("capsule", (0.3, -0.3, 0.35), radius=0.08, axis=(1.0, 0.0, 0.0),
+                      length=0.3),
            ObjectPose("plane", (0.0, -0.45, -0.5), normal=(0.0, 0.3, 1.0)))
 
 CASES = {
@@ -43,26 +43,49 @@ def _compare(image: np.ndarray, baseline: np.ndarray) -> tuple[float, float]:
     return float(diff.mean()), float((diff.max(axis=2) > BAD_PIXEL).mean())
 
 
-@pytest.mark.parametrize("name", sorted(CASES))
-def test_golden(renderer, name):
+def check_against_baseline(image: np.ndarray, path: Path, update: bool = False) -> None:
+    """Compare with the baseline at `path` (or rewrite it when updating). A missing baseline
+    fails: a skipped comparison would let a lost or never-committed file pass unnoticed."""
     import imageio.v3 as iio
 
+    if update:
+        path.parent.mkdir(exist_ok=True)
+        iio.imwrite(path, image)
+        return
+    if not path.exists():
+        pytest.fail(f"baseline {path.name} is missing; create it with "
+                    f"CLOTH_TUI_UPDATE_GOLDEN=1, look at it and commit it")
+    baseline = iio.imread(path)
+    assert baseline.shape == image.shape
+    mean, bad = _compare(image, baseline)
+    name = path.stem
+    actual = path.with_name(f"{name}.actual.png")
+    if mean > MAX_MEAN_DIFF or bad > MAX_BAD_SHARE:
+        iio.imwrite(actual, image)  # to look at; not committed
+    assert mean <= MAX_MEAN_DIFF, f"{name}: mean difference {mean:.2f} (see {actual.name})"
+    assert bad <= MAX_BAD_SHARE, f"{name}: {bad:.1%} of pixels differ (see {actual.name})"
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_golden(renderer, name):
     snap = CASES[name]()
     renderer.resize(*SIZE)
     renderer.update_scene(snap.scene)
     renderer.reset_camera()
-    image = renderer.render(snap)
-    path = SNAPSHOTS / f"{name}.png"
-    if UPDATE or not path.exists():
-        SNAPSHOTS.mkdir(exist_ok=True)
-        iio.imwrite(path, image)
-        if not UPDATE:
-            pytest.skip(f"baseline {path.name} created; rerun to compare")
-        return
-    baseline = iio.imread(path)
-    assert baseline.shape == image.shape
-    mean, bad = _compare(image, baseline)
-    if mean > MAX_MEAN_DIFF or bad > MAX_BAD_SHARE:
-        iio.imwrite(SNAPSHOTS / f"{name}.actual.png", image)  # to look at; not committed
-    assert mean <= MAX_MEAN_DIFF, f"{name}: mean difference {mean:.2f} (see {name}.actual.png)"
-    assert bad <= MAX_BAD_SHARE, f"{name}: {bad:.1%} of pixels differ (see {name}.actual.png)"
+    check_against_baseline(renderer.render(snap), SNAPSHOTS / f"{name}.png", UPDATE)
+
+
+def test_a_missing_baseline_fails_and_writes_nothing(tmp_path):
+    image = np.zeros((*SIZE[::-1], 3), np.uint8)
+    with pytest.raises(BaseException) as outcome:  # broad: a skip must not pass as a skip
+        check_against_baseline(image, tmp_path / "lost.png")
+    assert outcome.type is pytest.fail.Exception and "missing" in str(outcome.value)
+    assert not any(tmp_path.iterdir())
+
+
+def test_a_changed_image_fails_and_a_same_one_passes(tmp_path):
+    image = np.full((*SIZE[::-1], 3), 100, np.uint8)
+    check_against_baseline(image, tmp_path / "look.png", update=True)
+    check_against_baseline(image, tmp_path / "look.png")
+    with pytest.raises(AssertionError, match="mean difference"):
+        check_against_baseline(image // 2, tmp_path / "look.png")

@@ -36,6 +36,49 @@ def test_bad_input_is_one_line_exit_2(tmp_path, capsys, args):
     assert err.count("\n") == 1 and "error" in err
 
 
+def test_folder_that_refuses_files_is_bad_input_exit_2(capsys):
+    """/sys refuses new files even to root, whom os.access says yes to."""
+    assert main(["render", "default", "-o", "/sys/x.png"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Permission denied" in err
+
+
+def test_output_inside_a_file_says_it_is_not_a_folder(tmp_path, capsys):
+    (tmp_path / "somefile").write_text("x")
+    assert main(["render", "default", "-o", str(tmp_path / "somefile" / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "somefile is not a folder" in err
+    assert "does not exist" not in err
+
+
+def test_png_defaults_to_two_simulated_seconds(tmp_path, monkeypatch):
+    """A PNG shows the settled sheet: 2 s of simulated time, whatever the frame rate."""
+    from cloth_tui.sim.runner import Simulation
+    calls = []
+    advance = Simulation.advance_frame
+    monkeypatch.setattr(Simulation, "advance_frame",
+                        lambda self, *a, **k: calls.append(1) or advance(self, *a, **k))
+    out = tmp_path / "a.png"
+    assert main(["render", "default", "-o", str(out), "--size", "32x24",
+                 "--set", "behavior.frame_rate=30"]) == 0
+    assert len(calls) == 60 and out.is_file()
+
+
+def test_render_cli_takes_no_helpers_and_imports_no_cli():
+    """The render and accuracy commands import what they need; cli.py imports them lazily,
+    never the other way round."""
+    import inspect
+
+    from cloth_tui.render.cli import run_render
+    assert list(inspect.signature(run_render).parameters) == ["args"]
+    code = ("import sys, cloth_tui.render.cli, cloth_tui.bench.accuracy_cli, "
+            "cloth_tui.bench.cli; print('cloth_tui.cli' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
+
+
 def _start(tmp_path, name):
     """A long render in a child process, at 10 fps so a fragment completes every 10 frames."""
     out = tmp_path / name

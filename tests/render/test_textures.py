@@ -5,16 +5,24 @@ import numpy as np
 
 from cloth_tui.render.textures import (GENERATORS, grass_image, load_texture_image,
                                        maze_image)
-from cloth_tui.scene import TEXTURES_DIR
+from cloth_tui.resources import textures_dir
+from cloth_tui.scene import Scene
+from cloth_tui.texture_names import BUILTIN_TEXTURES
 
 
 def test_builtin_textures_are_committed_small_pngs():
     for name in GENERATORS:
-        path = TEXTURES_DIR / f"{name}.png"
+        path = textures_dir() / f"{name}.png"
         assert path.is_file() and path.stat().st_size < 16_000
         img = load_texture_image(name)
         assert img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] == 3
         assert img.std() > 10  # a pattern, not a flat colour
+
+
+def test_the_scene_accepts_exactly_the_textures_there_are_generators_for():
+    assert set(GENERATORS) == set(BUILTIN_TEXTURES)
+    for name in BUILTIN_TEXTURES:
+        assert Scene().with_value("appearance.cloth_texture", name).appearance.cloth_texture == name
 
 
 def test_generators_are_deterministic_and_tile():

@@ -57,10 +57,10 @@ def test_box_leaves_through_the_nearest_face_and_corners_round():
 
 def test_capsule_pushes_radially_from_its_axis_and_rounds_its_ends():
     x, c = collide("capsule", (0.1, 0.05, 0.0), (0.1, 0.3, 0.0), radius=0.1,
-                   size=(0.0, 0.4, 0.0), normal=(1.0, 0.0, 0.0))
+                   length=0.4, axis=(1.0, 0.0, 0.0))
     np.testing.assert_allclose(x, [0.1, 0.11, 0.0])
     x, _ = collide("capsule", (0.25, 0.0, 0.0), (0.4, 0.0, 0.0), radius=0.1,
-                   size=(0.0, 0.4, 0.0), normal=(1.0, 0.0, 0.0))
+                   length=0.4, axis=(1.0, 0.0, 0.0))
     np.testing.assert_allclose(x, [0.31, 0.0, 0.0])  # past the end cap: out along the axis
     assert c.penetration(four([0.0, 0.0, 0.0])) == pytest.approx(0.1)
 

@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.model import BENDING, SHEAR, STRUCTURAL, build_model, pinned_indices
+from cloth_tui.sim.model import (BENDING, SHEAR, STRUCTURAL, build_model, grid_triangles,
+                                 pinned_indices)
 
 
 def model_for(**cloth):
@@ -90,3 +91,18 @@ def test_uniform_mass_model_keeps_the_originals_equal_masses():
 def test_masses_by_area_on_the_smallest_sheet():
     m = model_for(resolution=2, mass=0.2)
     np.testing.assert_allclose(m.mass, 0.05)
+
+
+def test_every_cell_is_split_along_the_same_diagonal():
+    n = 5
+    tris = grid_triangles(n)
+    assert len(tris) == 2 * (n - 1) ** 2
+    diagonals = set()
+    for i in range(n - 1):
+        for j in range(n - 1):
+            corners = {i * n + j, i * n + j + 1, (i + 1) * n + j, (i + 1) * n + j + 1}
+            halves = [set(t) for t in tris if set(t) <= corners]
+            assert len(halves) == 2 and halves[0] | halves[1] == corners
+            shared = halves[0] & halves[1]
+            diagonals.add(tuple(sorted((a // n - i, a % n - j) for a in shared)))
+    assert diagonals == {((0, 1), (1, 0))}  # (i, j+1)–(i+1, j) everywhere

@@ -26,7 +26,7 @@ def oscillator(integrator, damping=0.0):
     x = np.array([[0.0, 0, 0], [L0 + AMP, 0, 0]])
     state = SimpleNamespace(x=x, x_prev=x.copy(), v=np.zeros((2, 3)), accel=np.zeros((2, 3)),
                             t=0.0)
-    return IntegrateSprings(model, b, [], 0.0), state
+    return IntegrateSprings(model, b, []), state
 
 
 def run_oscillator(integrator, h, t_end):
@@ -124,21 +124,40 @@ def test_pins_contacts_and_velocities_with_every_integrator(integrator):
     assert sim.state.is_finite() and np.abs(sim.state.v).max() < 10
 
 
-def test_force_without_accumulate_is_adapted():
-    class OldGravity:
-        name = "old_gravity"
+def test_force_effects_are_evaluated_through_the_protocol():
+    """A force effect is evaluated through `accumulate` at every stage; a kinematic one (the
+    wave) through `apply`, once per substep, never as a force."""
+    class Pull:
+        name, kinematic = "pull", False
+
+        def accumulate(self, x, v, t, out_accel):
+            out_accel[:, 1] -= 1.0
 
         def apply(self, state, h):
-            state.accel[:, 1] -= 1.0
+            raise AssertionError("a force-based integrator evaluates forces by accumulate")
+
+    class Drive:
+        name, kinematic = "drive", True
+        calls = 0
+
+        def accumulate(self, x, v, t, out_accel):
+            raise AssertionError("a kinematic effect is not a force")
+
+        def apply(self, state, h):
+            Drive.calls += 1
 
     model = SimpleNamespace(
         num_particles=2, num_constraints=1, edges=np.array([[0, 1]], np.int64),
         rest_length=np.array([L0]), mass=np.array([M, M]), inv_mass=np.array([0.0, 1.0 / M]),
         pinned=np.array([0], np.int64))
     b = SimpleNamespace(integrator="rk4", stiffness=K, spring_damping=0.0, damping=0.0)
-    eff = IntegrateSprings(model, b, [OldGravity()], 0.01)
+    eff = IntegrateSprings(model, b, [Pull(), Drive()])
     out = eff.accel(np.array([[0.0, 0, 0], [L0, 0, 0]]), np.zeros((2, 3)), 0.0, np.zeros((2, 3)))
     np.testing.assert_allclose(out, [[0, 0, 0], [0, -1.0, 0]])
+    _, state = oscillator("rk4")
+    for _ in range(3):
+        eff.apply(state, 0.01)
+    assert Drive.calls == 3  # rk4 has 4 stages per substep: once per substep, not per stage
 
 
 def test_implicit_euler_cg_converges_within_cap():

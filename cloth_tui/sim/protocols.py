@@ -1,0 +1,73 @@
+"""The contracts between the step builder (pipeline.py) and what it assembles.
+
+An Effect acts on the state once per substep (or once per frame). Force effects can also be
+evaluated at any positions and velocities, for integrators that take several stages per
+substep. Colliders are effects that also measure penetration and say where their object is.
+A Solver supplies its own stages; the order they run in is pipeline.assemble's alone.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .state import ClothState
+
+
+@dataclass(frozen=True)
+class ObjectPose:
+    """Where an object is now, for the renderer (a copy; never shared with the kernels)."""
+    type: str
+    center: tuple
+    radius: float = 0.0
+    size: tuple = (0.0, 0.0, 0.0)
+    normal: tuple = (0.0, 1.0, 0.0)
+    axis: tuple = (1.0, 0.0, 0.0)  # capsule
+    length: float = 0.5            # capsule: length of its axis segment, m
+
+
+class Effect(Protocol):
+    name: str
+
+    def apply(self, state: ClothState, h: float) -> None:
+        """Advance `state` over a step of length h, s (a substep, or a frame for impulses)."""
+
+
+class ForceEffect(Effect, Protocol):
+    """`apply` adds to state.accel at the state's time; `accumulate` adds the same
+    acceleration for any x, v, t. A kinematic effect drives the state directly instead (the
+    wave moves pin anchors): force-based solvers run its `apply` once per substep."""
+    kinematic: bool
+
+    def accumulate(self, x: np.ndarray, v: np.ndarray, t: float, out_accel: np.ndarray) -> None:
+        ...
+
+
+class Collider(Effect, Protocol):
+    def apply(self, state: ClothState, h: float, friction: float | None = None) -> None:
+        """Contact pass; `friction` overrides the collider's own (0 for a pure projection)."""
+
+    def penetration(self, x: np.ndarray) -> float:
+        """Deepest any free particle is inside the true surface, m."""
+
+    def pose(self, t: float) -> ObjectPose | None:
+        """Where the object is at time t, for the renderer; None if the renderer draws it
+        from the scene itself (the floor)."""
+
+
+class Solver(Protocol):
+    """What distinguishes a solver: how it integrates (forces included), which constraint
+    stages it runs after the contacts, and how it sets velocities at the end."""
+    name: str
+
+    def integrate(self) -> list[Effect]:
+        ...
+
+    def constraints(self) -> list[Effect]:
+        ...
+
+    def velocities(self) -> Effect:
+        ...
