@@ -46,9 +46,11 @@ def vec3(default: list[float], doc: str, *, unit: str = "", nonzero: bool = Fals
     return key(default, doc, unit=unit, kind="vec3_nonzero" if nonzero else "vec3")
 
 
+MASS_MODELS = ("area", "uniform")
 PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
 SOLVERS = ("pbd", "xpbd", "springs")
-INTEGRATORS = ("verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4", "implicit_euler")
+INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
+               "implicit_euler")
 OBJECT_TYPES = ("sphere", "box", "plane", "capsule")
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
 
@@ -61,6 +63,9 @@ class Cloth:
     pin_fraction: float = key(0.05, "share of particles pinned when pinned = \"random\"",
                               lo=0.0, hi=1.0)
     mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=0.0, lo_open=True, hi=1e6)
+    mass_model: str = key("area", "how the mass is shared: area (each particle its share of "
+                          "the sheet: edges ½, corners ¼ of an interior one) or uniform (the "
+                          "original's equal masses)", choices=MASS_MODELS)
     height: float = key(0.25, "initial height of the flat, horizontal sheet", unit="m",
                         lo=-1e3, hi=1e3)
 
@@ -122,16 +127,23 @@ class Behavior:
     shear: bool = key(True, "shear constraints (1-away diagonally)")
     bending: bool = key(True, "bending constraints (2-away in row and column)")
     iterations: int = key(4, "constraint passes per substep", lo=1, hi=1000)
-    substeps: int = key(4, "substeps per frame", lo=1, hi=1000)
+    substeps: int = key(4, "substeps per frame (with adaptive: the fewest it uses)", lo=1,
+                        hi=1000)
+    adaptive: bool = key(True, "raise the substeps when a frame stretches the cloth beyond "
+                         "stretch_tolerance, lower them again when there is slack")
+    stretch_tolerance: float = key(0.05, "largest stretch a frame may leave on any constraint, "
+                                   "as a share of its rest length (0.05: 5 %)", lo=0.001,
+                                   hi=10.0)
+    max_substeps: int = key(128, "adaptive: the most substeps per frame it may use",
+                            lo=1, hi=1000)
     frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=0.0,
                             lo_open=True, hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
     solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
                       choices=SOLVERS)
-    integrator: str = key("verlet", "time integrator (pbd/xpbd use verlet); with springs at the "
-                          "default stiffness only implicit_euler is stable at 4 substeps",
-                          choices=INTEGRATORS)
+    integrator: str = key("auto", "time integrator; auto: verlet for pbd/xpbd, implicit_euler "
+                          "(stable at any step) for springs", choices=INTEGRATORS)
     compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,
                             hi=1.0)
     stiffness: float = key(2000.0, "springs: spring constant (explicit integrators need "
@@ -139,9 +151,9 @@ class Behavior:
                            lo_open=True, hi=1e9)
     spring_damping: float = key(0.5, "springs: damping along each spring", unit="N·s/m",
                                 lo=0.0, hi=1e6)
-    tethers: bool = key(False, "long-range attachments: no particle may drift farther from its "
-                        "nearest pin than on the flat sheet, which keeps large sheets from "
-                        "over-stretching at few iterations")
+    tethers: bool = key(True, "long-range attachments (pbd, xpbd; where pins exist): no "
+                        "particle may drift farther from its nearest pin than on the flat "
+                        "sheet, which keeps large sheets from over-stretching")
     self_collision: str = key("off", "keep the sheet from passing through itself",
                               choices=("off", "naive", "hash"))
     max_speed: float = key(50.0, "particle speed limit (guards against tunnelling)",
@@ -308,10 +320,18 @@ def _check_texture(value: str, bad) -> None:
         raise bad("file not found")
 
 
+def integrator_for(behavior: Behavior) -> str:
+    """The integrator a solver runs: `auto` is verlet for pbd/xpbd and implicit_euler for
+    springs, the one integrator stable at any substep length for stiff springs."""
+    if behavior.integrator != "auto":
+        return behavior.integrator
+    return "implicit_euler" if behavior.solver == "springs" else "verlet"
+
+
 def validate(scene: Scene) -> None:
     """Checks that involve more than one key."""
     b = scene.behavior
-    if b.solver in ("pbd", "xpbd") and b.integrator != "verlet":
+    if b.solver in ("pbd", "xpbd") and b.integrator not in ("auto", "verlet"):
         raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
                          f"\"springs\"; {b.solver} predicts positions with verlet")
     if b.wave and 2 * math.pi * b.wave_amplitude * b.wave_frequency > b.max_speed:

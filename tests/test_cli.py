@@ -24,6 +24,21 @@ def test_simulate_default_reports_finite_sheet():
         assert k in stats
 
 
+def test_simulate_json_reports_the_tolerance_and_what_it_took():
+    rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
+                       "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
+                       "behavior.iterations=1", "--set", "behavior.stretch_tolerance=0.03")
+    assert rc == 0, err
+    s = json.loads(out)
+    assert s["stretch_tolerance"] == 0.03 and s["tolerance_met"] is True
+    assert s["substeps_used"] > 1 and s["max_stretch"] <= 0.03
+    rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
+                       "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
+                       "behavior.iterations=1", "--set", "behavior.max_substeps=1")
+    s = json.loads(out)
+    assert rc == 0 and s["substeps_used"] == 1 and s["tolerance_met"] is False
+
+
 def test_unpinned_sheet_comes_to_rest_on_floor():
     rc, out, err = run("simulate", "default", "--set", "cloth.pinned=none", "--frames", "300",
                        "--json")

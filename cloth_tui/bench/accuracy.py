@@ -27,7 +27,8 @@ import numpy as np
 from ..scene import Scene
 from ..sim import pipeline
 from ..sim.model import build_model
-from ..sim.runner import energy, stretch
+from ..sim.measures import energy, stretch
+from ..sim.solvers import PositionBasedSolver
 from ..sim.springs import ORDERS
 from ..sim.state import ClothState
 
@@ -126,6 +127,7 @@ def study_scene(cfg: StudyConfig, solver: str = "springs", integrator: str = "rk
     b.spring_damping = 0.0
     b.compliance = 1.0 / k if compliance is None else compliance
     b.damping = damping
+    b.tethers = False  # the study measures the solvers alone
     b.iterations = iterations
     b.substeps = substeps
     b.frame_rate = 1.0 / (dt * substeps)
@@ -144,10 +146,8 @@ def study_model(scene: Scene, pinned: str = "two_corners"):
     inv_mass[pins] = 0.0
     for a in (pins, inv_mass):
         a.setflags(write=False)
-    extra = {}
-    if getattr(model, "tether_pin", None) is not None:  # tethers follow the pins: drop them
-        extra = {"tether_pin": None, "tether_length": None}
-    return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass, **extra)
+    # (study_scene turns tethers off, so none refer to the pins replaced here)
+    return dataclasses.replace(model, pinned=pins, inv_mass=inv_mass)
 
 
 @dataclass
@@ -168,7 +168,9 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     h = step.h
     steps = max(1, int(round(t_end / h)))
     check = max(1, int(round(CHECK_INTERVAL / h)))
-    e0 = energy(model, state, scene)
+    solver = step.solver
+    lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
+    e0 = energy(model, state, scene, lambdas, h)
     scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.size
     x0 = state.x.copy()
     limit = BLOWUP_DISTANCE * model.size
@@ -194,7 +196,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
                 stable = False
                 break
     cpu = time.thread_time() - cpu0
-    drift = (energy(model, state, scene) - e0) / scale if stable else math.nan
+    drift = (energy(model, state, scene, lambdas, h) - e0) / scale if stable else math.nan
     # Other processes share the cores and preempt some chunks: the cost of a substep is the
     # lower quartile of the chunks' rates, which such interruptions do not reach.
     wall = float(np.percentile(rates, 25)) * steps if rates else 0.0
@@ -301,9 +303,10 @@ def largest_stable_dt(cfg: StudyConfig, integrator: str, stiffness: float) -> di
 
 def stability_map(cfg: StudyConfig) -> dict:
     """Largest stable timestep of each springs integrator at each of three stiffnesses,
-    and ω0 = √(k/m) of each stiffness: a limit dt·ω0 that stays the same across stiffnesses
-    means the limit scales as 1/√k."""
-    m = cfg.mass / (cfg.n * cfg.n)
+    and ω0 = √(k/m) of each stiffness (m of an interior particle; edges have ½ of it and
+    corners ¼): a limit dt·ω0 that stays the same across stiffnesses means the limit scales
+    as 1/√k."""
+    m = cfg.mass / (cfg.n - 1) ** 2  # an interior particle's (masses by area)
     out = {"t_end": cfg.stability_t_end, "range": list(cfg.stability_range),
            "stiffness": list(cfg.stability_stiffness), "methods": {}}
     for integ in INTEGRATORS:

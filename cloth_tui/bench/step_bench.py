@@ -21,6 +21,7 @@ def bare_scene(n: int, iterations: int = 4) -> Scene:
     s.scene.floor = False
     s.behavior.iterations = iterations
     s.behavior.substeps = 1
+    s.behavior.tethers = False  # the bare step: integrate, constraints, pins, velocities
     return s
 
 

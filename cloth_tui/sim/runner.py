@@ -15,52 +15,44 @@ import numpy as np
 
 from ..scene import Scene
 from . import pipeline
-from .model import ClothModel, build_model
+from .measures import (constraint_error, elastic_energy, energy, gravitational_energy,
+                       kinetic_energy, max_stretch, stretch)
+from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
+from .substep_control import SubstepController
+from .solvers import PositionBasedSolver
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
-                                     "height")} | \
+                                     "mass_model", "height")} | \
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
                                         "tethers", "wave")}
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
+# A force-based integrator going unstable pumps energy in. In a scene with no energy source
+# (wind, fields, rain, a wave, moving objects) a frame may not gain more than this share of
+# the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping, contacts and
+# a stable integrator only lose energy, an unstable one gains it exponentially.
+ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
 RUNAWAY_SPEED = 4.0  # × behavior.max_speed: a free particle this fast means divergence
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
 PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
+STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
 
 
-def stretch(model: ClothModel, x: np.ndarray) -> tuple[float, float]:
-    """Max and mean of |L/L0 − 1| over the enabled constraints."""
-    if not model.num_constraints:
-        return 0.0, 0.0
-    e = model.edges
-    d = x[e[:, 0]] - x[e[:, 1]]
-    r = np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / model.rest_length - 1.0)
-    return float(r.max()), float(r.mean())
-
-
-def energy(model: ClothModel, state: ClothState, scene: Scene) -> float:
-    """Kinetic + gravitational (height from y = 0) + elastic energy, J. Elastic: springs of
-    stiffness k, xpbd constraints of compliance α (stiffness 1/α); pbd's rigid constraints
-    store none."""
-    m = model.mass
-    e = 0.5 * float(np.dot(m, np.einsum("ij,ij->i", state.v, state.v)))
-    if scene.forces.gravity:
-        e += scene.forces.gravity_strength * float(np.dot(m, state.x[:, 1]))
-    b = scene.behavior
-    k = b.stiffness if b.solver == "springs" else \
-        1.0 / b.compliance if b.solver == "xpbd" and b.compliance > 0 else 0.0
-    if k and model.num_constraints:
-        from .springs import spring_energy
-        e += spring_energy(state.x, model.edges, model.rest_length, k)
-    return e
+def has_energy_source(scene: Scene) -> bool:
+    """Whether anything in the scene may add energy to the sheet (besides the user)."""
+    f = scene.forces
+    return (f.wind or f.custom != "none" or f.rain or scene.behavior.wave
+            or (scene.scene.moving and scene.scene.object != "none")
+            or any(o.motion != "static" for o in scene.objects))
 
 
 @dataclass(frozen=True)
 class Snapshot:
-    """What the renderer and the UI get each frame: copies, never the live arrays."""
+    """What the renderer and the UI get each frame: copies, never the live arrays. `stats`
+    are complete only every STATS_INTERVAL s (see Simulation.snapshot)."""
     positions: np.ndarray
     frame: int
     t: float
@@ -74,25 +66,37 @@ class Simulation:
     """One cloth in one scene. Not thread-safe: `SimulationThread` serialises access."""
 
     def __init__(self, scene: Scene):
-        self.recoveries = 0
-        self.penetration = 0.0
-        self.frames = 0
-        self.wall_s = 0.0
-        self.last_step_s = 0.0
         self._rebuild(scene, model=True)
 
     # -- building -------------------------------------------------------------------------
     def _rebuild(self, scene: Scene, model: bool) -> None:
+        """New settings. `model`: a new sheet, so a new run: every counter starts again.
+        Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
         self.scene = scene
+        b = scene.behavior
         if model:
-            self.model = build_model(scene.cloth, scene.behavior)
+            self.model = build_model(scene.cloth, b)
             self.state = ClothState.from_model(self.model)
-            self.penetration = 0.0
+            self._good = self.state.copy()  # the state before the current frame
             self._free = self.model.inv_mass > 0.0  # pins move as prescribed, however fast
-        self.step = pipeline.build(scene, self.model)
-        self._guard_level = 0
-        self._good = self.state.copy()
+            self.frames = 0
+            self.wall_s = 0.0
+            self.last_step_s = 0.0
+            self.penetration = 0.0
+        self.recoveries = 0
         self.halted: str | None = None  # why stepping stopped, if it did
+        # Springs stretch as their stiffness says, whatever the step: there the tolerance is
+        # reported, and substeps are the guard's business alone.
+        self.control = SubstepController(b.stretch_tolerance, b.substeps, b.max_substeps,
+                                         adaptive=b.adaptive and b.solver != "springs")
+        self.frame_stretch = 0.0  # max stretch after the last frame (when it was measured)
+        self._guard_level = 0
+        self._sources = has_energy_source(scene)
+        self._build_step()
+
+    def _build_step(self) -> None:
+        self.step = pipeline.build(self.scene, self.model,
+                                   self.control.substeps << self._guard_level)
 
     def set_scene(self, scene: Scene) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
@@ -100,46 +104,91 @@ class Simulation:
         changed = {(s, f.name) for s in ("cloth", "behavior")
                    for f in dataclasses.fields(getattr(scene, s))
                    if getattr(getattr(scene, s), f.name) != getattr(getattr(self.scene, s), f.name)}
-        rebuild_model = bool(changed & MODEL_KEYS)
+        rebuild_model = bool(changed & MODEL_KEYS) \
+            or uses_tethers(scene.behavior) != uses_tethers(self.scene.behavior)
         self._rebuild(scene, model=rebuild_model)
         return rebuild_model
 
     def reset(self) -> None:
+        """Start the run again: a new sheet, and every counter and halt cleared."""
         self._rebuild(self.scene, model=True)
-        self.frames = 0
-        self.wall_s = 0.0
 
     # -- stepping -------------------------------------------------------------------------
     def advance_frame(self) -> None:
-        """One frame; a diverging frame is undone and retried with more substeps."""
+        """One frame. A diverging frame is undone and retried with more substeps (the guard);
+        with `adaptive`, a frame that leaves more stretch than the tolerance is redone with
+        more substeps (the controller)."""
         if self.halted:
             return
         t0 = time.perf_counter()
+        if self.state.is_finite():  # (a state broken between frames falls back further)
+            self._good.restore(self.state)  # the frame's start, with bumps since the last
+        e0 = self._energy_scale() if self._watch_energy() else None
         self.step.frame(self.state)
-        while not self._healthy() and not self.halted:
-            self._recover()
-        if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0:
-            self._guard_level -= 1  # try the scene's own substeps again now and then
-            self.step = pipeline.build(self.scene, self.model,
-                                       self.scene.behavior.substeps << self._guard_level)
+        while not self.halted:
+            if not self._healthy(e0):
+                self._recover()
+                continue
+            redo = self._redo_for_accuracy()
+            if redo is None:
+                break
+            self.state.restore(self._good)
+            self._build_step()
+            self.step.frame(self.state)
+        # Measured by the step that ran the frame: a rebuilt step's moving colliders would
+        # stand where they were at t = 0 until they first run.
+        if self.step.colliders:
+            self.penetration = max(self.penetration, self.step.penetration(self.state.x))
+        if self.control.adaptive and not self.halted:
+            planned = self.control.substeps
+            if self.control.accept(self.frame_stretch) != planned:
+                self._build_step()
+        if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0 and not self.halted:
+            self._guard_level -= 1  # try fewer substeps again now and then
+            self._build_step()
         self.last_step_s = time.perf_counter() - t0
         self.wall_s += self.last_step_s
         self.frames += 1
-        self._good.restore(self.state)
-        if self.step.colliders:
-            self.penetration = max(self.penetration, self.step.penetration(self.state.x))
 
-    def _healthy(self) -> bool:
+    def _redo_for_accuracy(self) -> int | None:
+        """Measure the frame's stretch (only where the controller needs it) and ask."""
+        if not self.control.adaptive or not self.model.num_constraints:
+            return None
+        self.frame_stretch = float(max_stretch(self.state.x, self.model.edges,
+                                               self.model.rest_length))
+        return self.control.redo_with(self.frame_stretch)
+
+    def _watch_energy(self) -> bool:
+        return self.scene.behavior.solver == "springs" and not self._sources
+
+    def _energy_scale(self) -> tuple[float, float]:
+        """(energy, scale) at the start of a frame, for the energy-gain check."""
+        m, st, sc = self.model, self.state, self.scene
+        internal = kinetic_energy(m, st) + elastic_energy(m, st, sc)
+        g = sc.forces.gravity_strength if sc.forces.gravity else 0.0
+        scale = float(m.mass.sum()) * g * m.size + internal + 1e-12
+        return internal + gravitational_energy(m, st, sc), scale
+
+    def _healthy(self, e0: tuple[float, float] | None) -> bool:
         """Finite, no runaway speed, and (springs only) no spring at over twice its rest
-        length. Position-based solvers keep speeds clamped and may legitimately stretch a lot
-        at few iterations; a force-based integrator going unstable shows first as stretch,
-        since its speeds are clamped too."""
+        length and no energy gained from nowhere. Position-based solvers keep speeds clamped
+        and may legitimately stretch a lot at few iterations; a force-based integrator going
+        unstable shows as stretch or as energy, since its speeds are clamped too."""
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
-        if float(np.max(np.abs(self.state.v[self._free]), initial=0.0)) > RUNAWAY_SPEED * b.max_speed:
+        fastest = float(np.max(np.abs(self.state.v[self._free]), initial=0.0))
+        if fastest > RUNAWAY_SPEED * b.max_speed:
             return False
-        return b.solver != "springs" or stretch(self.model, self.state.x)[0] <= SPRING_DIVERGED
+        if b.solver != "springs":
+            return True
+        if stretch(self.model, self.state.x)[0] > SPRING_DIVERGED:
+            return False
+        if e0 is not None:
+            e_start, scale = e0
+            if self._energy() - e_start > ENERGY_GAIN_DIVERGED * scale:
+                return False
+        return True
 
     def _recover(self) -> None:
         self.recoveries += 1
@@ -148,15 +197,14 @@ class Simulation:
             # Even 16× the substeps diverges: hold the last good state and say why, rather
             # than show garbage or restart the sheet every frame.
             b = self.scene.behavior
-            self.halted = (f"the step diverges even at {b.substeps << MAX_GUARD_LEVEL} substeps "
+            self.halted = (f"the step diverges even at {self.step.substeps} substeps "
                            f"per frame; lower behavior.stiffness, raise behavior.substeps"
                            + (" or use behavior.integrator = implicit_euler"
                               if b.solver == "springs" else "")
                            + ", then restart")
             return
         self._guard_level += 1
-        self.step = pipeline.build(self.scene, self.model,
-                                   self.scene.behavior.substeps << self._guard_level)
+        self._build_step()
         self.step.frame(self.state)
 
     def bump(self, particle: int, displacement, radius: float = 1.5) -> None:
@@ -175,36 +223,63 @@ class Simulation:
         self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
 
     # -- reporting ------------------------------------------------------------------------
+    def _lambdas(self) -> np.ndarray | None:
+        """The xpbd multipliers of the last substep (the solver's force estimate)."""
+        solver = self.step.solver
+        if self.scene.behavior.solver == "xpbd" and isinstance(solver, PositionBasedSolver):
+            return solver.lambdas
+        return None
+
+    def _energy(self) -> float:
+        return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h)
+
+    def frame_stats(self) -> dict:
+        """The statistics cheap enough for every frame."""
+        return {
+            "frames": self.frames,
+            "steps": self.state.steps,
+            "t": self.state.t,
+            "recoveries": self.recoveries,
+            "halted": self.halted,
+            "frame_ms": 1e3 * self.last_step_s,            # simulation time of the last frame
+            "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
+            "substeps_used": self.step.substeps,            # adaptive or recovering: ≠ asked
+            "wall_s": self.wall_s,
+        } | ({"tolerance_met": self.control.met,            # of the last frame
+              "frame_stretch": self.frame_stretch}          # what the controller measured
+             if self.control.adaptive else {})
+
     def stats(self) -> dict:
         x = self.state.x
         finite = self.state.is_finite()
         max_s, mean_s = stretch(self.model, x) if finite else (float("nan"),) * 2
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
-        return {
+        lambdas = self._lambdas()
+        out = {
             "particles": self.model.num_particles,
             "constraints": self.model.num_constraints,
-            "frames": self.frames,
-            "steps": self.state.steps,
-            "t": self.state.t,
             "finite": finite,
             "min_y": float(x[:, 1].min()),
             "max_speed": float(speed.max()),
             "max_stretch": max_s,
             "mean_stretch": mean_s,
-            "energy": energy(self.model, self.state, self.scene),
+            "stretch_tolerance": self.scene.behavior.stretch_tolerance,
+            "energy": energy(self.model, self.state, self.scene, lambdas, self.step.h),
+            "constraint_error": constraint_error(self.model, self.state, self.scene, lambdas,
+                                                 self.step.h),
             "penetration": self.penetration,
             "effects": self.step.names,
-            "recoveries": self.recoveries,
-            "halted": self.halted,
-            "frame_ms": 1e3 * self.last_step_s,            # simulation time of the last frame
-            "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
-            "substeps_used": self.step.substeps,            # more than asked while recovering
-            "wall_s": self.wall_s,
-        }
+        } | self.frame_stats()
+        if not self.control.adaptive:
+            out["tolerance_met"] = bool(max_s <= self.control.tolerance)
+        return out
 
-    def snapshot(self) -> Snapshot:
+    def snapshot(self, stats: dict | None = None) -> Snapshot:
+        """A snapshot with full statistics, or with `stats` (an earlier full set) refreshed
+        by this frame's cheap ones."""
+        stats = self.stats() if stats is None else stats | self.frame_stats()
         poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
-        return Snapshot(self.state.x.copy(), self.frames, self.state.t, self.stats(),
+        return Snapshot(self.state.x.copy(), self.frames, self.state.t, stats,
                         self.model, self.scene, poses)
 
 
@@ -222,6 +297,8 @@ class SimulationThread:
         self._wake = threading.Event()
         self._lock = threading.Lock()
         self._latest = self.sim.snapshot()
+        self._stats: dict | None = None  # the last full statistics published, and when
+        self._stats_t = 0.0
         self._thread = threading.Thread(target=self._run, name="cloth-sim", daemon=True)
         self.error: BaseException | None = None
 
@@ -249,8 +326,17 @@ class SimulationThread:
         with self._lock:
             return self._latest
 
-    def _publish(self) -> None:
-        snap = self.sim.snapshot()
+    def _publish(self, full: bool) -> None:
+        """Positions every frame; the full statistics (per-edge stretch, energy: a pass over
+        every constraint) only every STATS_INTERVAL s, the rate the status line shows them,
+        or when a command changed the run. Between, the last full set is carried with this
+        frame's cheap numbers."""
+        now = time.perf_counter()
+        if full or self._stats is None or now - self._stats_t >= STATS_INTERVAL:
+            snap = self.sim.snapshot()
+            self._stats, self._stats_t = snap.stats, now
+        else:
+            snap = self.sim.snapshot(self._stats)
         with self._lock:
             self._latest = snap
         if self.on_snapshot is not None:
@@ -264,10 +350,10 @@ class SimulationThread:
         next_t = time.perf_counter()  # when the next frame is due
         try:
             while not self._stop.is_set():
-                changed = False
+                changed = commanded = False
                 while self._commands:
                     self._commands.popleft()(self.sim)
-                    changed = True
+                    changed = commanded = True
                 now = time.perf_counter()
                 if self.paused:
                     next_t = now
@@ -282,7 +368,7 @@ class SimulationThread:
                     if now >= next_t:
                         next_t = now + period
                 if changed:
-                    self._publish()
+                    self._publish(full=commanded)
                 wait = next_t - time.perf_counter() if not self.paused else PAUSED_POLL_S
                 if wait > 0:
                     self._wake.wait(wait)

@@ -46,7 +46,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene import ORIGINAL_TIMESTEP
+from ..scene import ORIGINAL_TIMESTEP, integrator_for
 from .implicit import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
 from .jit import FASTMATH
 from .protocols import Effect, ForceEffect
@@ -116,20 +116,6 @@ def restore_rows(a, b, rows):
 
 
 @njit(nogil=True, cache=True, fastmath=FASTMATH)
-def spring_energy(x, edges, rest, k):
-    e_sum = 0.0
-    for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        c = math.sqrt(dx * dx + dy * dy + dz * dz) - rest[e]
-        e_sum += 0.5 * k * c * c
-    return e_sum
-
-
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
 def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
     """After contacts and pins: a particle a contact (or pin) moved takes the PBD velocity
     (x − x_prev)/h; the others keep the integrator's. Speeds are clamped to max_speed."""
@@ -157,9 +143,9 @@ class IntegrateSprings:
     leaves the integrator's end positions in `x_pred` for `correct_velocities`."""
 
     def __init__(self, model, behavior, force_effects: list[ForceEffect]):
-        if behavior.integrator not in ORDERS:
-            raise ValueError(f"unknown integrator {behavior.integrator!r}")
-        self.integrator = behavior.integrator
+        self.integrator = integrator_for(behavior)  # `auto` resolved for springs
+        if self.integrator not in ORDERS:
+            raise ValueError(f"unknown integrator {self.integrator!r}")
         self.name = f"integrate_{self.integrator}"
         self.model = model
         self.k = float(behavior.stiffness)

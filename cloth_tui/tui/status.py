@@ -1,5 +1,6 @@
-"""The status line: rates, step cost, stretch and energy, a sparkline of ms per frame and the
-recording mark. `Readout` is plain Python (no Textual) so the numbers are testable alone."""
+"""The status line: rates, step cost, stretch and energy, the stretch tolerance and what it
+costs, a sparkline of ms per frame and the recording mark. `Readout` is plain Python (no
+Textual) so the numbers are testable alone."""
 
 from __future__ import annotations
 
@@ -10,6 +11,9 @@ from collections import deque
 from textual.app import ComposeResult
 from textual.containers import Horizontal, Vertical
 from textual.widgets import Sparkline, Static
+
+# An xpbd residual (m) below this is not worth a place on the status line.
+CONSTRAINT_ERROR_SHOWN = 1e-4
 
 
 class RateMeter:
@@ -78,6 +82,20 @@ class Readout:
             return 0.0
         return e - self.energy0
 
+    def tolerance_text(self) -> str:
+        """"tol 5 % → 12 substeps, 3.1 ms/frame": what the tolerance costs, and a warning
+        when the frame did not meet it (the substeps at their cap, or springs, whose stretch
+        is their stiffness's)."""
+        s = self.stats
+        tol = s.get("stretch_tolerance")
+        if tol is None:
+            return ""
+        text = (f"tol {100 * tol:g} % → {s.get('substeps_used', 0)} substeps, "
+                f"{self.frame_ms:.1f} ms/frame")
+        if s.get("tolerance_met", True):
+            return f"[b]{text}[/]"
+        return f"[b black on yellow] {text}: NOT MET [/]"
+
     def text(self, *, paused: bool, recording: bool, iterations: int,
              substeps: int) -> tuple[str, str]:
         """(state line, cost line): what the sim and view do, and what a frame costs."""
@@ -92,13 +110,17 @@ class Readout:
             f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
             f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
         ]
+        residual = s.get("constraint_error")
+        if residual is not None and residual > CONSTRAINT_ERROR_SHOWN:
+            parts.append(f"constraint error {1e3 * residual:.2f} mm")
         if s.get("halted"):
             parts.append("[b white on red] HALTED: diverging [/]")
         if s.get("recoveries"):
             parts.append(f"[red]{s['recoveries']} recoveries[/]")
         used = s.get("substeps_used", substeps)
         shown = f"{substeps}" if used == substeps else f"{substeps} (now {used})"
-        cost = (f"cost [b]{self.frame_ms:6.2f}[/] ms/frame, {self.step_ms:5.3f} ms/step at "
+        frame = self.tolerance_text() or f"cost [b]{self.frame_ms:6.2f}[/] ms/frame"
+        cost = (f"{frame}, {self.step_ms:5.3f} ms/step at "
                 f"{iterations} iterations × {shown} substeps · render {self.render_ms:5.1f} ms"
                 f" · ms/frame:")
         return " · ".join(parts), cost

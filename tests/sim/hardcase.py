@@ -14,13 +14,19 @@ def make(overrides: dict) -> Scene:
 
 
 def run_hard(overrides: dict, min_steps: int = 2000, max_stretch: float = 0.5,
-             max_frames: int = 3000, on_frame=None, allow_halt: bool = False) -> Simulation:
+             max_frames: int = 3000, on_frame=None, allow_halt: bool = False,
+             max_mean: float = 0.05, min_frames: int = 60) -> Simulation:
+    """Run until `min_steps` substeps and `min_frames` frames (adaptive substeps reach the
+    first quickly: the second makes a case last a simulated second) and check every frame;
+    at the end, stretch within `max_stretch` (max) and `max_mean` (mean): the issue's bounds
+    with the default accuracy settings, loosened only where the geometry forces more."""
     scene = make(overrides)
     sim = Simulation(scene)
     limit = scene.behavior.max_speed
     floor = scene.scene.floor_height
     frames = 0
-    while sim.state.steps < min_steps and frames < max_frames and not sim.halted:
+    while (sim.state.steps < min_steps or frames < min_frames) and frames < max_frames \
+            and not sim.halted:
         if on_frame is not None:
             on_frame(sim, frames)
         sim.advance_frame()
@@ -40,5 +46,6 @@ def run_hard(overrides: dict, min_steps: int = 2000, max_stretch: float = 0.5,
     assert st["finite"]
     if st["constraints"]:
         assert st["max_stretch"] <= max_stretch, st["max_stretch"]
+        assert st["mean_stretch"] <= max_mean, st["mean_stretch"]
     assert st["penetration"] <= scene.scene.thickness + 1e-3
     return sim

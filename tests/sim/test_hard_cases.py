@@ -1,4 +1,6 @@
-"""Scenes that try to break the solver. Each would fail if the step blew up."""
+"""Scenes that try to break the solver. Each would fail if the step blew up. With the default
+accuracy settings (adaptive substeps, 5 % tolerance, tethers) each ends with max stretch ≤ 0.5
+and mean ≤ 0.05 (run_hard's defaults) unless its comment says why the geometry cannot."""
 
 import numpy as np
 import pytest
@@ -11,7 +13,14 @@ from .hardcase import run_hard
 def test_very_large_timestep():
     # 5 frames per second and one substep: 0.2 s steps, 11× the original's.
     run_hard({"behavior.frame_rate": 5.0, "behavior.substeps": 1, "cloth.pinned": "none",
-              "cloth.height": 3.0}, min_steps=2000, max_stretch=0.6)
+              "cloth.height": 3.0}, min_steps=2000)
+
+
+def test_one_substep_one_iteration_at_10_frames_per_second():
+    # Before adaptive substeps: collapsed onto the floor, corners stretched 11.5×.
+    sim = run_hard({"behavior.frame_rate": 10.0, "behavior.substeps": 1,
+                    "behavior.iterations": 1})
+    assert sim.stats()["tolerance_met"] and sim.step.substeps > 1
 
 
 @pytest.mark.parametrize("n", [2, 3])
@@ -22,14 +31,19 @@ def test_tiniest_sheets(n):
 
 @pytest.mark.slow
 def test_large_sheet():
-    run_hard({"cloth.resolution": 200, "behavior.tethers": True}, min_steps=2000)
+    run_hard({"cloth.resolution": 200}, min_steps=2000)
 
 
-def test_large_sheet_short():
-    # Without tethers a corner-pinned 128² sheet at 4 iterations stretches several-fold next
-    # to the pins (PBD converges slowly over long distances): tethers bound it.
-    run_hard({"cloth.resolution": 128, "behavior.tethers": True},
-             min_steps=800)
+@pytest.mark.slow
+def test_160_sheet_at_2_iterations_for_a_second():
+    run_hard({"cloth.resolution": 160, "behavior.iterations": 2}, min_steps=2000)
+
+
+def test_160_sheet_at_2_iterations():
+    # Before tethers by default and adaptive substeps: max stretch 16.9, mean 15 %. PBD
+    # converges slowly over long distances; tethers bound it and substeps do the rest. The
+    # fall's first 0.1 s, where the substeps climb to the cap (the long form runs a second).
+    run_hard({"cloth.resolution": 160, "behavior.iterations": 2}, min_steps=0, min_frames=6)
 
 
 def test_all_constraint_families_off():
@@ -60,10 +74,9 @@ def test_coincident_particles():
         if frame == 0:
             sim.state.x[:] = sim.state.x[0]  # every particle at one point
     # The sheet unfolds from a point into a tangle: some constraints stay stretched where
-    # folds lock them, so the bound is loose, but nothing runs away.
+    # folds lock them (no substeps unlock a fold), so the max bound is loose; the mean holds.
     sim = run_hard({"cloth.pinned": "none", "cloth.resolution": 10}, on_frame=crush,
                    max_stretch=1.5)
-    assert sim.stats()["mean_stretch"] < 0.1
     assert np.ptp(sim.state.x[:, 0]) > 0.3  # it did spread out
 
 
@@ -72,8 +85,7 @@ def test_drop_from_several_metres_onto_floor():
 
 
 def test_strong_gravity():
-    run_hard({"forces.gravity_strength": 1000.0, "cloth.pinned": "one_edge"},
-             max_stretch=1.0)
+    run_hard({"forces.gravity_strength": 1000.0, "cloth.pinned": "one_edge"})
 
 
 INTEGRATORS = ["explicit_euler", "symplectic_euler", "verlet", "midpoint", "rk4",
@@ -86,7 +98,7 @@ def test_stiff_springs_with_every_integrator(integrator):
     # guard must catch each blow-up (more substeps, or a halt with a reason), never show it.
     sim = run_hard({"cloth.resolution": 12, "behavior.solver": "springs",
                     "behavior.integrator": integrator, "behavior.stiffness": 1e5},
-                   min_steps=2000, max_stretch=1.0, allow_halt=True)
+                   min_steps=2000, allow_halt=True)
     if integrator == "implicit_euler":
         assert sim.recoveries == 0 and not sim.halted
     if sim.halted:
@@ -94,27 +106,32 @@ def test_stiff_springs_with_every_integrator(integrator):
 
 
 def test_hurricane_wind():
-    # 70 m/s gusts, a category-5 hurricane: ~3 kPa on a 0.2 kg sheet, some 15,000 m/s². Four
-    # PBD passes cannot hold that rigid, so the sheet stretches, boundedly.
+    # 70 m/s gusts, a category-5 hurricane: ~3 kPa on a 0.2 kg sheet, some 15,000 m/s².
     run_hard({"forces.wind": True, "forces.wind_strength": 70.0, "forces.wind_mode": "gusty",
-              "cloth.pinned": "one_edge", "forces.wind_direction": [1.0, -0.3, 0.5]},
-             max_stretch=3.0)
+              "cloth.pinned": "one_edge", "forces.wind_direction": [1.0, -0.3, 0.5]})
 
 
-def test_supersonic_wind_stays_bounded():
-    # 500 m/s would shred real cloth; the sheet may stretch, but stays finite and the speed
-    # clamp bounds every particle's step.
-    run_hard({"forces.wind": True, "forces.wind_strength": 500.0, "forces.wind_mode": "gusty",
-              "cloth.pinned": "one_edge", "forces.wind_direction": [1.0, -0.3, 0.5]},
-             max_stretch=12.0)
+def test_200_mps_gusty_wind_one_edge_pinned():
+    run_hard({"forces.wind": True, "forces.wind_strength": 200.0, "forces.wind_mode": "gusty",
+              "cloth.pinned": "one_edge", "forces.wind_direction": [1.0, -0.3, 0.5]})
+
+
+def test_supersonic_wind_stays_bounded_and_says_the_tolerance_is_not_met():
+    # 500 m/s would shred real cloth: even the cap's 128 substeps leave ~0.6 stretch at the
+    # gusts' peak. The run goes on, and says so.
+    sim = run_hard({"forces.wind": True, "forces.wind_strength": 500.0,
+                    "forces.wind_mode": "gusty", "cloth.pinned": "one_edge",
+                    "forces.wind_direction": [1.0, -0.3, 0.5]}, max_stretch=1.0)
+    st = sim.stats()
+    assert st["substeps_used"] == sim.scene.behavior.max_substeps
+    assert st["tolerance_met"] is (st["frame_stretch"] <= 0.05)
 
 
 @pytest.mark.parametrize("field", ["black_hole", "anti_gravity", "vortex", "tractor_beam"])
 def test_enormous_field_strength(field):
     # 10⁵ m/s² (10,000 g): no cloth survives that; the solver must stay finite and bounded,
     # each particle's step clamped to max_speed·h.
-    run_hard({"forces.custom": field, "forces.custom_strength": 1e5, "cloth.resolution": 16},
-             max_stretch=12.0)
+    run_hard({"forces.custom": field, "forces.custom_strength": 1e5, "cloth.resolution": 16})
 
 
 @pytest.mark.parametrize("obj", ["sphere", "box"])
@@ -141,11 +158,9 @@ def test_drop_onto_box_edge():
 
 
 def test_heavy_rain():
-    # 5000 drops/s, each displacing a particle 0.2 m (five grid spacings): the last frame's
-    # fresh drops leave constraints stretched, the rest of the sheet holds.
-    sim = run_hard({"forces.rain": True, "forces.rain_rate": 5000.0,
-                    "forces.rain_strength": 0.2}, max_stretch=3.0)
-    assert sim.stats()["mean_stretch"] < 0.2
+    # 5000 drops/s, each displacing a particle 0.2 m (five grid spacings) at the start of a
+    # frame: the frame's substeps pull the sheet back together.
+    run_hard({"forces.rain": True, "forces.rain_rate": 5000.0, "forces.rain_strength": 0.2})
 
 
 def test_wave_faster_than_max_speed_is_refused():
@@ -155,15 +170,28 @@ def test_wave_faster_than_max_speed_is_refused():
             .with_value("behavior.wave_frequency", 100.0)
 
 
-@pytest.mark.parametrize("amplitude, frequency", [(5.0, 1.5), (0.15, 50.0), (15.0, 0.5)])
-def test_wave_at_extremes(amplitude, frequency):
+def test_wave_at_the_speed_limit():
+    # 2π · 0.1 m · 79 Hz = 49.6 m/s, just under max_speed: before, stretched 4.9×.
+    run_hard({"behavior.wave": True, "behavior.wave_amplitude": 0.1,
+              "behavior.wave_frequency": 79.0, "scene.floor": False})
+
+
+def test_fast_small_wave():
+    run_hard({"behavior.wave": True, "behavior.wave_amplitude": 0.15,
+              "behavior.wave_frequency": 50.0, "scene.floor": False, "cloth.resolution": 16})
+
+
+@pytest.mark.parametrize("amplitude, frequency", [(5.0, 1.5), (15.0, 0.5)])
+def test_wave_past_the_sheets_length(amplitude, frequency):
+    # The driven edge swings 5 m and 15 m while the far edge, 1 m away, is held: the sheet
+    # must stretch to span that (up to 15× its length), whatever the solver does.
     run_hard({"behavior.wave": True, "behavior.wave_amplitude": amplitude,
               "behavior.wave_frequency": frequency, "scene.floor": False,
-              "cloth.resolution": 16}, max_stretch=50.0)
+              "cloth.resolution": 16}, max_stretch=50.0, max_mean=20.0)
 
 
 def test_self_collision_in_a_storm():
     run_hard({"behavior.self_collision": "hash", "forces.wind": True,
               "forces.wind_strength": 100.0, "forces.wind_mode": "gusty", "forces.rain": True,
               "forces.rain_rate": 500.0, "cloth.pinned": "one_edge", "cloth.resolution": 20},
-             min_steps=2000, max_stretch=1.0)
+             min_steps=2000)

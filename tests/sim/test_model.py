@@ -69,6 +69,30 @@ def test_pinned_particles_have_zero_inverse_mass_and_mass_sums():
     assert m.mass.sum() == pytest.approx(0.4)
 
 
+def test_masses_by_area_edges_half_corners_quarter():
+    n = 6
+    m = model_for(resolution=n, mass=0.5)
+    grid = m.mass.reshape(n, n)
+    interior = grid[2, 3]
+    np.testing.assert_allclose(grid[1:-1, 1:-1], interior)
+    np.testing.assert_allclose(grid[0, 1:-1], interior / 2)   # edges
+    np.testing.assert_allclose(grid[1:-1, -1], interior / 2)
+    np.testing.assert_allclose(grid[[0, 0, -1, -1], [0, -1, 0, -1]], interior / 4)  # corners
+    assert m.mass.sum() == pytest.approx(0.5)
+    # an interior particle carries one cell's area: the sheet's density times spacing²
+    assert interior == pytest.approx(0.5 / m.size ** 2 * m.spacing ** 2)
+
+
+def test_uniform_mass_model_keeps_the_originals_equal_masses():
+    m = model_for(resolution=6, mass=0.5, mass_model="uniform")
+    np.testing.assert_allclose(m.mass, 0.5 / 36)
+
+
+def test_masses_by_area_on_the_smallest_sheet():
+    m = model_for(resolution=2, mass=0.2)
+    np.testing.assert_allclose(m.mass, 0.05)
+
+
 def test_every_cell_is_split_along_the_same_diagonal():
     n = 5
     tris = grid_triangles(n)

@@ -33,7 +33,8 @@ def test_corner_pinned_sheet_rests_with_pins_in_place():
 def test_more_iterations_give_less_stretch():
     results = []
     for k in (1, 4, 16):
-        sim = Simulation(scene(behavior__iterations=k, behavior__substeps=1))
+        sim = Simulation(scene(behavior__iterations=k, behavior__substeps=1,
+                               behavior__adaptive=False, behavior__tethers=False))
         for _ in range(120):
             sim.advance_frame()
         results.append(sim.stats()["mean_stretch"])
@@ -104,9 +105,10 @@ def test_diverging_step_is_recovered():
 
 
 def test_tethers_bound_distance_to_nearest_pin_and_cut_stretch():
-    plain = Simulation(scene(cloth__resolution=48, behavior__substeps=1))
+    plain = Simulation(scene(cloth__resolution=48, behavior__substeps=1,
+                             behavior__adaptive=False, behavior__tethers=False))
     tethered = Simulation(scene(cloth__resolution=48, behavior__substeps=1,
-                                behavior__tethers=True))
+                                behavior__adaptive=False, behavior__tethers=True))
     assert "enforce_tethers" in tethered.step.names and "enforce_tethers" not in plain.step.names
     for _ in range(200):
         plain.advance_frame()

@@ -66,7 +66,7 @@ def test_pair_buffer_grows_when_a_cloud_has_many_contacts():
 
 
 def test_resolve_pushes_pairs_apart_mass_weighted():
-    m = model(4, cloth__pinned="corners")
+    m = model(4, cloth__pinned="corners", cloth__mass_model="uniform")
     sc = selfcollision.SelfCollision(m, "hash")
     d = sc.distance
     x = np.array(m.rest_positions)

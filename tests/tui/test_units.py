@@ -49,6 +49,20 @@ def test_rate_meter_and_readout():
     assert r.drift == 0.0
 
 
+def test_readout_shows_what_the_tolerance_costs_and_warns_when_not_met():
+    r = Readout()
+    r.on_snapshot(1, {"stretch_tolerance": 0.05, "substeps_used": 12, "frame_ms": 3.1,
+                      "tolerance_met": True, "constraint_error": 2e-5})
+    state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
+    assert "tol 5 % → 12 substeps, 3.1 ms/frame" in cost
+    assert "NOT MET" not in cost and "constraint error" not in state
+    r.on_snapshot(2, {"stretch_tolerance": 0.05, "substeps_used": 128, "frame_ms": 40.0,
+                      "tolerance_met": False, "constraint_error": 3e-3})
+    state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
+    assert "[b black on yellow] tol 5 % → 128 substeps, 40.0 ms/frame: NOT MET [/]" in cost
+    assert "constraint error 3.00 mm" in state
+
+
 def test_input_text_parsing():
     assert parse_text("forces.wind_direction", "[1, 0, -2]") == [1.0, 0.0, -2.0]
     assert parse_text("forces.wind_direction", "1 0 x") == "1 0 x"  # refused later
