@@ -10,9 +10,11 @@ from __future__ import annotations
 import re
 import signal
 import sys
-import threading
 from pathlib import Path
 
+from ..interrupt import EXIT_BY_SIGNAL
+from ..interrupt import Interrupt as _Interrupt
+from ..interrupt import Progress as _Progress
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, save_png
@@ -22,7 +24,6 @@ from .renderer import MAX_SIZE
 OUTPUT_SUFFIXES = (".png", ".mp4", ".gif")
 SETTLE_S = 2.0       # s of simulated time before a PNG is taken: the sheet has draped
 VIDEO_FRAMES = 90
-EXIT_BY_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -33,47 +34,6 @@ def parse_size(text: str) -> tuple[int, int]:
     if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
         raise UsageError(f"--size {text!r}: each side must be 1..{MAX_SIZE} pixels")
     return w, h
-
-
-class _Interrupt:
-    """Turns SIGINT/SIGTERM into a flag the frame loop checks, so the video is closed
-    properly instead of being cut mid-write."""
-
-    def __init__(self):
-        self.signum: int | None = None
-        self._old: dict = {}
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            for sig in EXIT_BY_SIGNAL:
-                self._old[sig] = signal.signal(sig, self._handle)
-        return self
-
-    def _handle(self, signum, _frame):
-        self.signum = signum
-
-    def __exit__(self, *exc):
-        for sig, handler in self._old.items():
-            signal.signal(sig, handler)
-
-
-class _Progress:
-    def __init__(self, total: int, enabled: bool):
-        self.total, self.enabled = total, enabled
-
-    def show(self, done: int) -> None:
-        if not self.enabled:
-            return
-        width = 30
-        filled = int(width * done / max(1, self.total))
-        sys.stderr.write(f"\rrendering [{'#' * filled}{'.' * (width - filled)}] "
-                         f"{done}/{self.total}")
-        sys.stderr.flush()
-
-    def end(self) -> None:
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
 
 
 def default_frames(kind: str, scene) -> int:

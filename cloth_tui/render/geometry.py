@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sim.surface import grid_uv, vertex_normals  # noqa: F401  (the renderer's too)
+
 LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0])  # original's
 
 LIGHT_COLOR = np.array([0xdf, 0xeb, 0xff]) / 255.0
@@ -21,34 +23,11 @@ def hex_rgb(text: str) -> np.ndarray:
     return np.array([int(text[i:i + 2], 16) for i in (0, 2, 4)], dtype=np.float64) / 255.0
 
 
-def vertex_normals(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Area-weighted vertex normals (smooth shading), unit length; zero-area stays (0, 1, 0)."""
-    a, b, c = points[triangles[:, 0]], points[triangles[:, 1]], points[triangles[:, 2]]
-    face = np.cross(b - a, c - a)
-    n = len(points)
-    out = np.empty((n, 3))
-    flat = triangles.ravel()
-    for k in range(3):  # bincount is several times faster than np.add.at
-        out[:, k] = np.bincount(flat, weights=np.repeat(face[:, k], 3), minlength=n)
-    length = np.linalg.norm(out, axis=1)
-    bad = length < 1e-20
-    out[bad] = (0.0, 1.0, 0.0)
-    length[bad] = 1.0
-    return out / length[:, None]
-
-
 def triangle_edges(triangles: np.ndarray) -> np.ndarray:
     """Each edge of a triangle mesh once, (E, 2) int64."""
     e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     e.sort(axis=1)
     return np.unique(e, axis=0)
-
-
-def grid_uv(n: int) -> np.ndarray:
-    """Texture coordinates of the n×n particle grid: the whole image once across the sheet."""
-    u = np.linspace(0.0, 1.0, n)
-    vv, uu = np.meshgrid(u, u, indexing="ij")
-    return np.stack([uu.ravel(), 1.0 - vv.ravel()], axis=1)
 
 
 def fog_factor(r: np.ndarray, near: float, far: float) -> np.ndarray:

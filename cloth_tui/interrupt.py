@@ -1,0 +1,56 @@
+"""What long headless commands (render, bake) share: SIGINT/SIGTERM turned into a flag the
+frame loop checks, so the output is finished properly rather than cut mid-write, and a
+progress bar on stderr when it is a terminal. No heavy imports."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+
+EXIT_BY_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
+
+
+class Interrupt:
+    """Within the `with`, SIGINT/SIGTERM only set `signum` (main thread only: elsewhere
+    Python cannot install handlers, and the signals keep their usual effect)."""
+
+    def __init__(self):
+        self.signum: int | None = None
+        self._old: dict = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for sig in EXIT_BY_SIGNAL:
+                self._old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def _handle(self, signum, _frame):
+        self.signum = signum
+
+    def __exit__(self, *exc):
+        for sig, handler in self._old.items():
+            signal.signal(sig, handler)
+
+    @property
+    def name(self) -> str:
+        return signal.Signals(self.signum).name if self.signum is not None else ""
+
+
+class Progress:
+    def __init__(self, total: int, enabled: bool, label: str = "rendering"):
+        self.total, self.enabled, self.label = total, enabled, label
+
+    def show(self, done: int) -> None:
+        if not self.enabled:
+            return
+        width = 30
+        filled = int(width * done / max(1, self.total))
+        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] "
+                         f"{done}/{self.total}")
+        sys.stderr.flush()
+
+    def end(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
