@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .usage import UsageError, check_output_path
 
-COMMANDS = ("render", "simulate", "bench", "accuracy", "scenes")
+COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "scenes")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -88,6 +88,13 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--size", default="640x480", metavar="WxH", help="image size in pixels")
     p.add_argument("--fps", type=_positive_int, default=30, help="video frames per second")
 
+    p = sub.add_parser("bake", help="simulate and write every frame: USD or OBJ/PLY files")
+    _add_scene_args(p)
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="OUT.usd, OUT.usdc, OUT.usda (needs the [usd] extra) or "
+                        "OUT_####.obj / OUT_####.ply (one file per frame)")
+    p.add_argument("--frames", type=_positive_int, default=120, help="frames to simulate")
+
     p = sub.add_parser("scenes", help="list the built-in scenes")
 
     p = sub.add_parser("bench", help="performance benchmarks (numbers, not tests)")
@@ -144,6 +151,11 @@ def cmd_simulate(args) -> int:
 def cmd_render(args) -> int:
     from .render.cli import run_render
     return run_render(args)
+
+
+def cmd_bake(args) -> int:
+    from .io.bake_cli import run_bake
+    return run_bake(args)
 
 
 def cmd_bench(args) -> int:

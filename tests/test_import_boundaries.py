@@ -11,6 +11,8 @@ import pytest
 FORBIDDEN = {
     "cloth_tui.sim": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
     "cloth_tui.render": ("textual",),
+    # io writes files: no terminal, and GL only when an OBJ/PLY sequence asks for VTK's writers
+    "cloth_tui.io": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
 }
 
 # Imports every module of the package, then lists the loaded top-level names it must not use.

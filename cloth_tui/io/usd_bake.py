@@ -1,0 +1,230 @@
+"""A bake as a USD stage (Pixar's usd-core, the optional extra `[usd]`).
+
+    /World                 Xform, the default prim
+      Cloth                Mesh: faces, UVs (primvars:st), time-sampled points, normals, extent
+      Ground               Mesh: a quad at the floor's height (when the scene has a floor)
+      Objects/Object_k     Xform: translate (time-sampled once the object moves) and the exact
+                           shape as cloth_tui:* attributes, for reading the bake back
+        Shape              Sphere | Cube (scaled) | Capsule (oriented) | Mesh (a plane's quad)
+
+Time code k is frame k (from 1), timeCodesPerSecond = framesPerSecond = the scene's frame
+rate, metres (metersPerUnit = 1), y up. The layer's customLayerData holds the scene's TOML, so
+a bake says how it was made (and `cloth-tui render` can redraw it).
+
+Crash safety: the stage lives in memory and is exported under a temp name beside the target
+and renamed over it at most every SAVE_INTERVAL_S of wall time and at the end; each save is a
+whole stage with its end time at its last frame, so a SIGKILL leaves the frames of the last
+save, readable.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .. import scene as scene_io
+from ..sim.surface import grid_uv, vertex_normals
+from .frames import BakedFrame
+from .mesh_sequence import BakeIOError
+
+USD_SUFFIXES = (".usd", ".usdc", ".usda")
+SAVE_INTERVAL_S = 1.0   # wall time between saves: what a SIGKILL can lose at most
+GROUND_HALF = 5.0       # m: half the side of the ground quad
+PLANE_HALF = 1.0        # m: half the side of the quad that shows an (infinite) plane
+SCENE_KEY = "cloth_tui:scene"
+VERSION_KEY = "cloth_tui:format"
+FORMAT_VERSION = 1
+
+
+def missing_usd_message() -> str | None:
+    """None if usd-core can be imported, else the one line that says how to get it."""
+    try:
+        import pxr.Usd  # noqa: F401
+    except ImportError:
+        return ("USD needs Pixar's usd-core, which is not installed: "
+                "pip install 'cloth-tui[usd]' (or: pip install usd-core)")
+    return None
+
+
+def _hex_color(text: str) -> tuple[float, float, float]:
+    t = text.lstrip("#")
+    return tuple(int(t[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+
+
+def _tangents(normal) -> tuple[np.ndarray, np.ndarray]:
+    n = np.asarray(normal, dtype=np.float64)
+    n = n / np.linalg.norm(n)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    u = np.cross(n, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(n, u)
+
+
+def _quad(center, normal, half: float) -> np.ndarray:
+    """Four corners, counter-clockwise seen from the side the normal points to."""
+    u, v = _tangents(normal)
+    c = np.asarray(center, dtype=np.float64)
+    return np.array([c + half * (su * u + sv * v)
+                     for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+
+
+class UsdBakeWriter:
+    def __init__(self, path: Path, scene, model):
+        from pxr import Gf, Sdf, Usd, UsdGeom, Vt
+
+        self.Gf, self.Sdf, self.Usd, self.UsdGeom, self.Vt = Gf, Sdf, Usd, UsdGeom, Vt
+        self.path = Path(path)
+        self.scene = scene
+        self.triangles = np.asarray(model.triangles, dtype=np.int64)
+        self.stage = Usd.Stage.CreateInMemory()
+        stage = self.stage
+        UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+        UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+        rate = float(scene.behavior.frame_rate)
+        stage.SetTimeCodesPerSecond(rate)
+        stage.SetFramesPerSecond(rate)
+        stage.SetStartTimeCode(1)
+        stage.SetEndTimeCode(1)
+        layer = stage.GetRootLayer()
+        layer.customLayerData = {SCENE_KEY: scene_io.dumps(scene),
+                                 VERSION_KEY: FORMAT_VERSION}
+        world = UsdGeom.Xform.Define(stage, "/World")
+        stage.SetDefaultPrim(world.GetPrim())
+
+        self.cloth = UsdGeom.Mesh.Define(stage, "/World/Cloth")
+        self.cloth.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)  # a polygon mesh
+        self.cloth.CreateFaceVertexCountsAttr(Vt.IntArray([3] * len(self.triangles)))
+        self.cloth.CreateFaceVertexIndicesAttr(Vt.IntArray(self.triangles.ravel().tolist()))
+        self.cloth.CreateDoubleSidedAttr(True)
+        self.cloth.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
+        st = UsdGeom.PrimvarsAPI(self.cloth).CreatePrimvar(
+            "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex)
+        st.Set(Vt.Vec2fArray.FromNumpy(grid_uv(model.n).astype(np.float32)))
+        self.cloth.CreateDisplayColorPrimvar(UsdGeom.Tokens.constant).Set(
+            [Gf.Vec3f(*_hex_color(scene.appearance.cloth_color))])
+        if scene.scene.floor:
+            self._define_ground()
+        UsdGeom.Xform.Define(stage, "/World/Objects")
+        self.objects: list = []   # (translate op, first centre, centres so far, moving)
+        self.frames = 0
+        self.last_frame = 0
+        self._saved_at = time.monotonic()
+
+    # -- the still parts ------------------------------------------------------------------
+    def _define_ground(self) -> None:
+        UsdGeom, Vt = self.UsdGeom, self.Vt
+        s = self.scene.scene
+        half = GROUND_HALF * max(1.0, self.scene.cloth.size)
+        ground = UsdGeom.Mesh.Define(self.stage, "/World/Ground")
+        corners = _quad((0.0, s.floor_height, 0.0), (0.0, 1.0, 0.0), half)
+        ground.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(corners.astype(np.float32)))
+        ground.CreateFaceVertexCountsAttr(Vt.IntArray([4]))
+        ground.CreateFaceVertexIndicesAttr(Vt.IntArray([0, 1, 2, 3]))
+        ground.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+        ground.CreateDisplayColorPrimvar(UsdGeom.Tokens.constant).Set(
+            [self.Gf.Vec3f(*_hex_color(self.scene.appearance.ground_color))])
+
+    def _define_object(self, k: int, pose) -> None:
+        Gf, Sdf, UsdGeom, Vt = self.Gf, self.Sdf, self.UsdGeom, self.Vt
+        xform = UsdGeom.Xform.Define(self.stage, f"/World/Objects/Object_{k}")
+        translate = xform.AddTranslateOp()
+        translate.Set(Gf.Vec3d(*pose.center))
+        prim = xform.GetPrim()
+        for name, type_, value in (
+                ("type", Sdf.ValueTypeNames.String, pose.type),
+                ("radius", Sdf.ValueTypeNames.Double, float(pose.radius)),
+                ("size", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.size)),
+                ("normal", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.normal)),
+                ("axis", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.axis)),
+                ("length", Sdf.ValueTypeNames.Double, float(pose.length))):
+            prim.CreateAttribute(f"cloth_tui:{name}", type_, custom=True).Set(value)
+        path = f"/World/Objects/Object_{k}/Shape"
+        if pose.type == "sphere":
+            shape = UsdGeom.Sphere.Define(self.stage, path)
+            shape.CreateRadiusAttr(float(pose.radius))
+        elif pose.type == "box":
+            shape = UsdGeom.Cube.Define(self.stage, path)
+            shape.CreateSizeAttr(1.0)
+            shape.AddScaleOp().Set(Gf.Vec3f(*map(float, pose.size)))
+        elif pose.type == "capsule":
+            shape = UsdGeom.Capsule.Define(self.stage, path)
+            shape.CreateAxisAttr(UsdGeom.Tokens.z)
+            shape.CreateRadiusAttr(float(pose.radius))
+            shape.CreateHeightAttr(float(pose.length))
+            turn = Gf.Rotation(Gf.Vec3d(0, 0, 1), Gf.Vec3d(*pose.axis)).GetQuat()
+            shape.AddOrientOp(UsdGeom.XformOp.PrecisionFloat).Set(Gf.Quatf(turn))
+        else:  # a plane: a quad through the centre, facing its normal
+            shape = UsdGeom.Mesh.Define(self.stage, path)
+            corners = _quad((0.0, 0.0, 0.0), pose.normal, PLANE_HALF)
+            shape.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(corners.astype(np.float32)))
+            shape.CreateFaceVertexCountsAttr(Vt.IntArray([4]))
+            shape.CreateFaceVertexIndicesAttr(Vt.IntArray([0, 1, 2, 3]))
+            shape.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+            shape.CreateDoubleSidedAttr(True)
+        centre = tuple(map(float, pose.center))
+        self.objects.append([translate, centre, [centre], False])
+
+    # -- frames ---------------------------------------------------------------------------
+    def write(self, frame: BakedFrame) -> None:
+        Gf, Vt = self.Gf, self.Vt
+        x = np.asarray(frame.positions, dtype=np.float64)
+        code = float(frame.frame)
+        self.cloth.GetPointsAttr().Set(Vt.Vec3fArray.FromNumpy(x.astype(np.float32)), code)
+        normals = vertex_normals(x, self.triangles).astype(np.float32)
+        self.cloth.GetNormalsAttr().Set(Vt.Vec3fArray.FromNumpy(normals), code)
+        lo, hi = x.min(axis=0), x.max(axis=0)
+        self.cloth.GetExtentAttr().Set(Vt.Vec3fArray([Gf.Vec3f(*lo), Gf.Vec3f(*hi)]), code)
+        for k, pose in enumerate(frame.objects):
+            if k == len(self.objects):
+                self._define_object(k, pose)
+            self._place_object(k, tuple(map(float, pose.center)), frame.frame)
+        self.frames += 1
+        self.last_frame = frame.frame
+        if time.monotonic() - self._saved_at >= SAVE_INTERVAL_S:
+            self.save()
+
+    def _place_object(self, k: int, centre: tuple, frame: int) -> None:
+        """A still object keeps one (default) translate; once it moves, every frame so far
+        gets a time sample."""
+        entry = self.objects[k]
+        op, first, centres, moving = entry
+        if len(centres) < frame:
+            centres.append(centre)
+        if not moving and centre != first:
+            entry[3] = moving = True
+            start = frame - len(centres) + 1
+            for i, c in enumerate(centres):
+                op.Set(self.Gf.Vec3d(*c), float(start + i))
+        elif moving:
+            op.Set(self.Gf.Vec3d(*centre), float(frame))
+
+    # -- saving ---------------------------------------------------------------------------
+    def save(self) -> None:
+        """The whole stage, exported beside the target and renamed over it."""
+        self.stage.SetEndTimeCode(max(1, self.last_frame))
+        folder = self.path.parent if str(self.path.parent) else Path(".")
+        tmp = folder / f".{self.path.stem}.{secrets.token_hex(4)}.part{self.path.suffix}"
+        try:
+            if not self.stage.GetRootLayer().Export(str(tmp)):
+                raise OSError(f"USD could not export {tmp}")
+            fd = os.open(tmp, os.O_RDONLY)
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+            os.replace(tmp, self.path)
+        except Exception as e:  # pxr raises its own Tf.ErrorException
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            lines = str(e).strip().splitlines()
+            reason = getattr(e, "strerror", None) or (lines[-1] if lines else type(e).__name__)
+            raise BakeIOError(f"cannot write {self.path}: {reason}") from None
+        self._saved_at = time.monotonic()
+
+    def close(self) -> None:
+        self.save()

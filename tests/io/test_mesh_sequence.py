@@ -1,0 +1,34 @@
+"""`cloth-tui bake … -o f_####.obj|.ply`: one mesh per frame that PyVista reads back."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cloth_tui.cli import main
+from cloth_tui.io.mesh_sequence import sequence_path
+
+from .helpers import simulated_frames
+
+
+@pytest.mark.parametrize("pattern,frame,name", [
+    ("f_####.obj", 7, "f_0007.obj"), ("f_##.ply", 123, "f_123.ply"),
+    ("f.obj", 3, "f_0003.obj"), ("a#b_######.obj", 5, "a#b_000005.obj")])
+def test_sequence_names(pattern, frame, name):
+    assert sequence_path(Path("d") / pattern, frame) == Path("d") / name
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".ply"])
+def test_ten_frames_read_back_as_the_simulation(tmp_path, suffix):
+    import pyvista as pv
+
+    assert main(["bake", "sphere", "-o", str(tmp_path / f"f_####{suffix}"), "--frames", "10",
+                 "--set", "cloth.resolution=8"]) == 0
+    files = sorted(tmp_path.iterdir())
+    assert [f.name for f in files] == [f"f_{k:04d}{suffix}" for k in range(1, 11)]
+    xs, _ = simulated_frames("sphere", ["cloth.resolution=8"], 10)
+    for path, x in zip(files, xs):
+        mesh = pv.read(path)
+        assert mesh.n_cells == 2 * 7 ** 2
+        np.testing.assert_allclose(np.asarray(mesh.points), x, atol=1e-6)
+    assert not np.allclose(xs[0], xs[-1])

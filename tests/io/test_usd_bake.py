@@ -1,0 +1,166 @@
+"""`cloth-tui bake … -o OUT.usd(c/a)`: what pxr reads back is the simulation."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from cloth_tui.cli import main
+from cloth_tui.scene import apply_overrides, load, loads
+
+from .helpers import simulated_frames
+
+pxr = pytest.importorskip("pxr")
+from pxr import Usd, UsdGeom  # noqa: E402
+
+SMALL = ["--set", "cloth.resolution=10"]
+
+
+def _open(path):
+    stage = Usd.Stage.Open(str(path))
+    assert stage is not None
+    return stage
+
+
+def test_sphere_bake_reads_back_as_the_simulation(tmp_path):
+    out = tmp_path / "s.usdc"
+    assert main(["bake", "sphere", "-o", str(out), "--frames", "12", *SMALL]) == 0
+    stage = _open(out)
+    assert UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.y
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 1.0
+    scene = apply_overrides(load("sphere"), SMALL[1::2])
+    assert stage.GetTimeCodesPerSecond() == scene.behavior.frame_rate
+    assert (stage.GetStartTimeCode(), stage.GetEndTimeCode()) == (1, 12)
+    assert loads(stage.GetRootLayer().customLayerData["cloth_tui:scene"]) == scene
+
+    cloth = UsdGeom.Mesh.Get(stage, "/World/Cloth")
+    points = cloth.GetPointsAttr()
+    assert points.GetTimeSamples() == [float(k) for k in range(1, 13)]
+    xs, poses = simulated_frames("sphere", SMALL[1::2], 12)
+    for k, x in enumerate(xs, start=1):
+        got = np.asarray(points.Get(float(k)))
+        np.testing.assert_allclose(got, x, rtol=0, atol=1e-6)
+        normals = np.asarray(cloth.GetNormalsAttr().Get(float(k)))
+        assert normals.shape == x.shape
+        np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-5)
+    assert not np.allclose(xs[0], xs[-1])  # the sheet moved: samples are frames, not copies
+    n = scene.cloth.resolution
+    assert list(cloth.GetFaceVertexCountsAttr().Get()) == [3] * (2 * (n - 1) ** 2)
+    st = UsdGeom.PrimvarsAPI(cloth).GetPrimvar("st")
+    assert st.GetInterpolation() == UsdGeom.Tokens.vertex and len(st.Get()) == n * n
+
+    sphere = UsdGeom.Sphere.Get(stage, "/World/Objects/Object_0/Shape")
+    assert sphere and sphere.GetRadiusAttr().Get() == pytest.approx(poses[0][0].radius)
+    centre = UsdGeom.Xformable(sphere.GetPrim()).ComputeLocalToWorldTransform(1.0)
+    np.testing.assert_allclose(centre.ExtractTranslation(), poses[0][0].center)
+    ground = UsdGeom.Mesh.Get(stage, "/World/Ground")
+    assert np.asarray(ground.GetPointsAttr().Get())[:, 1] == pytest.approx(
+        scene.scene.floor_height)
+
+
+def test_moving_object_has_time_sampled_translate_and_still_one_none(tmp_path):
+    out = tmp_path / "m.usda"
+    sets = ["cloth.resolution=6", "scene.object=capsule", "scene.moving=true"]
+    args = [a for s in sets for a in ("--set", s)]
+    assert main(["bake", "default", "-o", str(out), "--frames", "5", *args]) == 0
+    stage = _open(out)
+    translate = UsdGeom.Xformable(stage.GetPrimAtPath("/World/Objects/Object_0")
+                                  ).GetOrderedXformOps()[0]
+    assert translate.GetAttr().GetTimeSamples() == [1.0, 2.0, 3.0, 4.0, 5.0]
+    _, poses = simulated_frames("default", sets, 5)
+    for k in range(1, 6):
+        np.testing.assert_allclose(translate.Get(float(k)), poses[k - 1][0].center)
+    capsule = UsdGeom.Capsule.Get(stage, "/World/Objects/Object_0/Shape")
+    # The capsule's own axis (z) turned onto the scene's axis.
+    local = capsule.GetLocalTransformation()
+    axis = np.asarray(local.TransformDir((0.0, 0.0, 1.0)))
+    np.testing.assert_allclose(axis, poses[0][0].axis, atol=1e-6)
+
+    still = tmp_path / "still.usda"
+    assert main(["bake", "box", "-o", str(still), "--frames", "3",
+                 "--set", "cloth.resolution=6"]) == 0
+    stage = _open(still)
+    op = UsdGeom.Xformable(stage.GetPrimAtPath("/World/Objects/Object_0")).GetOrderedXformOps()[0]
+    assert op.GetAttr().GetTimeSamples() == []
+    assert UsdGeom.Cube.Get(stage, "/World/Objects/Object_0/Shape")
+
+
+def test_missing_usd_core_names_the_extra_exit_2(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pxr", None)  # import pxr → ImportError
+    monkeypatch.setitem(sys.modules, "pxr.Usd", None)
+    assert main(["bake", "sphere", "-o", str(tmp_path / "s.usdc"), "--frames", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cloth-tui[usd]" in err
+    assert not (tmp_path / "s.usdc").exists()
+
+
+@pytest.mark.parametrize("out", ["x.abc", "/no/such/folder/x.usdc", "/sys/x.usdc"])
+def test_bad_output_is_one_line_exit_2(tmp_path, capsys, out):
+    out = out if out.startswith("/") else str(tmp_path / out)
+    assert main(["bake", "sphere", "-o", out, "--frames", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "error" in err
+
+
+def _start_bake(out):
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    return subprocess.Popen([sys.executable, "-m", "cloth_tui", "bake", "sphere", "-o",
+                             str(out), "--frames", "10000000", "--set", "cloth.resolution=12"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+
+
+def _wait_for_saved_frames(proc, out, minimum=2, timeout=60.0) -> int:
+    """Frames in the file while the bake still runs (saves come every second or so)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        if out.exists():
+            stage = Usd.Stage.Open(str(out))
+            samples = UsdGeom.Mesh.Get(stage, "/World/Cloth").GetPointsAttr().GetNumTimeSamples()
+            if samples >= minimum:
+                return samples
+        time.sleep(0.2)
+    proc.kill()
+    pytest.fail(f"no frames were saved to {out}")
+
+
+def _check_frames_are_the_simulation(out) -> int:
+    stage = _open(out)
+    points = UsdGeom.Mesh.Get(stage, "/World/Cloth").GetPointsAttr()
+    samples = points.GetTimeSamples()
+    n = len(samples)
+    assert samples == [float(k) for k in range(1, n + 1)]
+    assert stage.GetEndTimeCode() == n  # the saved stage says how far it got
+    xs, _ = simulated_frames("sphere", ["cloth.resolution=12"], n)
+    for k in (1, n):
+        np.testing.assert_allclose(np.asarray(points.Get(float(k))), xs[k - 1], atol=1e-6)
+    return n
+
+
+def test_sigkill_leaves_a_readable_bake_with_the_frames_done(tmp_path):
+    out = tmp_path / "killed.usdc"
+    proc = _start_bake(out)
+    seen = _wait_for_saved_frames(proc, out)
+    assert proc.poll() is None, "the bake ended before it was killed"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait(10)
+    assert _check_frames_are_the_simulation(out) >= seen
+
+
+@pytest.mark.parametrize("sig,status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupt_finishes_the_bake(tmp_path, sig, status):
+    out = tmp_path / "stopped.usda"
+    proc = _start_bake(out)
+    _wait_for_saved_frames(proc, out)
+    assert proc.poll() is None, "the bake ended before it was interrupted"
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == status
+    err = err.decode().strip()
+    assert err.count("\n") == 0 and "saved" in err
+    n = _check_frames_are_the_simulation(out)
+    assert f"stopped after {n} of" in err  # every frame done is in the file
+    assert [p.name for p in tmp_path.iterdir()] == ["stopped.usda"]  # no temp left
