@@ -3,6 +3,7 @@
 PNG: the last of `--frames` frames (default: 2 s of simulated time, 2·frame_rate frames, so
 the sheet has settled). MP4/GIF: every frame (default 90).
 SIGINT/SIGTERM finish the video properly (playable file, final name) and exit 130/143.
+A bake (SCENE.usd/.usdc/.usda) is drawn from its frames, without simulating: see replay.py.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from ..interrupt import EXIT_BY_SIGNAL
 from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
+from ..io.usd_bake import USD_SUFFIXES
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, save_png
@@ -48,6 +50,9 @@ def run_render(args) -> int:
     out = Path(args.output)
     check_output_path(out, OUTPUT_SUFFIXES)
     size = parse_size(args.size)
+    if Path(args.scene).suffix.lower() in USD_SUFFIXES:  # a bake: draw it, simulate nothing
+        from .replay import run_replay
+        return run_replay(args, out, size)
     scene = apply_overrides(load(args.scene), args.overrides)
     kind = out.suffix.lower()
     frames = args.frames or default_frames(kind, scene)

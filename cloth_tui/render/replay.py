@@ -1,0 +1,90 @@
+"""`cloth-tui render BAKE.usd(c/a) -o OUT.png|OUT.mp4|OUT.gif`: draw a bake without
+simulating. The points come from the bake's time samples, the objects from its prims, the
+rest of the picture (ground, poles, camera) from the scene recorded in it; `--set` may change
+only appearance.* keys, since nothing is simulated again.
+
+PNG: the last frame (or frame `--frames`); MP4/GIF: every frame (or the first `--frames`).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
+from ..io.usd_read import UsdBake
+from ..scene import apply_overrides, parse_override
+from ..sim.model import build_model
+from ..sim.runner import Snapshot
+from ..usage import UsageError
+from .capture import CaptureError, VideoWriter, save_png
+from .probe import RendererUnavailable, require_renderer
+
+REPLAY_SECTIONS = ("appearance",)
+
+
+def bake_scene(bake: UsdBake, overrides: list[str]):
+    for text in overrides:
+        key, _ = parse_override(text)
+        if key.split(".")[0] not in REPLAY_SECTIONS:
+            raise UsageError(f"--set {text}: a bake is redrawn, not simulated again; only "
+                             f"appearance.* keys can change")
+    return apply_overrides(bake.scene, overrides)
+
+
+def run_replay(args, out: Path, size: tuple[int, int]) -> int:
+    bake = UsdBake(Path(args.scene))
+    scene = bake_scene(bake, args.overrides)
+    model = build_model(scene.cloth, scene.behavior)
+    if len(bake.positions(bake.frames[0])) != model.num_particles:
+        raise UsageError(f"{args.scene}: its cloth has {len(bake.positions(bake.frames[0]))} "
+                         f"points, its recorded scene makes {model.num_particles}")
+    kind = out.suffix.lower()
+    frames = bake.frames[:args.frames] if args.frames else bake.frames
+    if kind == ".png":
+        frames = frames[-1:]
+    try:
+        require_renderer()
+    except RendererUnavailable as e:
+        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        return 1
+
+    from .renderer import Renderer
+
+    renderer = Renderer(scene, size)
+    progress = Progress(len(frames), sys.stderr.isatty())
+    video = None
+    done = 0
+    try:
+        with Interrupt() as interrupt:
+            if kind != ".png":
+                video = VideoWriter(out, args.fps, size)
+            for frame in frames:
+                if interrupt.signum is not None:
+                    break
+                snap = Snapshot(bake.positions(frame), frame, frame / bake.frame_rate, {},
+                                model, scene, bake.objects(frame))
+                image = renderer.render(snap)
+                if video is not None:
+                    video.write(image)
+                else:
+                    save_png(image, out)
+                done += 1
+                progress.show(done)
+            if video is not None:
+                video.close()
+        progress.end()
+    except CaptureError as e:
+        progress.end()
+        if video is not None:
+            video.abort()
+        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        return 1
+    finally:
+        renderer.close()
+    if interrupt.signum is not None:
+        what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
+        print(f"cloth-tui: {interrupt.name}: stopped after {done} of {len(frames)} frames; "
+              f"{what}", file=sys.stderr)
+        return EXIT_BY_SIGNAL[interrupt.signum]
+    return 0
