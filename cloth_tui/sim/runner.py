@@ -286,11 +286,15 @@ class Simulation:
 class SimulationThread:
     """Runs a Simulation in real time (one frame per 1/frame_rate wall seconds, or as fast as
     it can) on a daemon thread. Other threads talk to it only through `submit` and read
-    `latest`; `on_snapshot` is called from the simulation thread after every frame."""
+    `latest`; `on_snapshot` is called from the simulation thread after every frame it
+    publishes (catching up, several frames are published as one). `on_frame`, if set, is
+    called there after every frame simulated (a recorder that needs them all); it may read
+    the Simulation, not keep it."""
 
     def __init__(self, scene: Scene, on_snapshot: Callable[[Snapshot], None] | None = None):
         self.sim = Simulation(scene)
         self.on_snapshot = on_snapshot
+        self.on_frame: Callable[[Simulation], None] | None = None
         self.paused = False
         self._commands: deque[Callable[[Simulation], None]] = deque()
         self._stop = threading.Event()
@@ -363,6 +367,8 @@ class SimulationThread:
                         if now < next_t:
                             break
                         self.sim.advance_frame()
+                        if self.on_frame is not None:
+                            self.on_frame(self.sim)
                         next_t += period
                         changed = True
                     if now >= next_t:

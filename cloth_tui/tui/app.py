@@ -23,6 +23,7 @@ from textual.widgets._select import SelectOverlay
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
+from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
 from .commands import SceneCommands
 from .messages import Captured, FrameReady, SimDied, SimUpdated
@@ -64,6 +65,7 @@ class ClothApp(App):
         self._stopped = False
         self._crosshair_placed = False
         self._no_preview: str | None = None  # why there are no pictures, once known
+        self.bake = BakeKey(self.captures_dir, self.notify)  # `e`: record to USD
         self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
@@ -102,6 +104,7 @@ class ClothApp(App):
         if self.sim is not None:
             self.sim.stop(timeout=0.2)
         self.sim = SimulationThread(self.scene, on_snapshot=self._on_snapshot)
+        self.sim.on_frame = self.bake.on_frame
         self.sim.paused = paused
         self.sim.start()
         self._on_snapshot(self.sim.latest)  # first picture and stats, even when paused
@@ -356,6 +359,10 @@ class ClothApp(App):
         else:
             self.renderer.toggle_recording()
 
+    def action_bake(self) -> None:
+        self.bake.toggle(self.sim.latest if self.sim is not None else None)
+        self._refresh_status()
+
     def action_save_scene(self) -> None:
         path = self.captures_dir / f"scene-{time.strftime('%Y%m%d-%H%M%S')}.toml"
         try:
@@ -394,6 +401,7 @@ class ClothApp(App):
                                  iterations=b.iterations, substeps=b.substeps)
         if self._no_preview is not None:
             text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
+        text = self.bake.status(text)
         for bar in self.query(StatusBar):  # none while the app is closing
             bar.show(text, self.readout.ms_history)
 
@@ -407,6 +415,7 @@ class ClothApp(App):
             self.sim.stop(timeout=0.5)
         if self.renderer is not None:
             self.renderer.stop(timeout=1.0)
+        self.bake.finish(timeout=5.0)  # saved, as a running video is finished
         if self._debug is not None:
             self._debug.write(f"{time.perf_counter():.4f} shutdown "
                               f"{1e3 * (time.perf_counter() - t0):.0f} ms\n")

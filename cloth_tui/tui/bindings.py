@@ -8,7 +8,7 @@ ORBIT_DEG = 10.0
 ZOOM_STEP = 1.25
 VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse drags)
 # Actions a focused text field or open dropdown keeps for itself (it needs those keys).
-TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "save_scene",
+TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake", "save_scene",
                      "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera"}
 
 APP_BINDINGS = [
@@ -19,6 +19,7 @@ APP_BINDINGS = [
     Binding("a", "toggle('appearance.auto_rotate')", "Rotate", priority=True),
     Binding("i", "screenshot", "Shot", priority=True),
     Binding("v", "video", "Video", priority=True),
+    Binding("e", "bake", "Bake USD", priority=True, show=False),
     Binding("s", "save_scene", "Save", priority=True),
     Binding("c", "toggle_controls", "Controls", priority=True),
     Binding("up", "bump(0, 1, 0)", "Bump", priority=True, key_display="←↑↓→⇞⇟"),
