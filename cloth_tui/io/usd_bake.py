@@ -12,9 +12,10 @@ rate, metres (metersPerUnit = 1), y up. The layer's customLayerData holds the sc
 a bake says how it was made (and `cloth-tui render` can redraw it).
 
 Crash safety: the stage lives in memory and is exported under a temp name beside the target
-and renamed over it at most every SAVE_INTERVAL_S of wall time and at the end; each save is a
-whole stage with its end time at its last frame, so a SIGKILL leaves the frames of the last
-save, readable.
+and renamed over it every SAVE_INTERVAL_S of wall time (or SAVE_SHARE⁻¹ times as long as the
+last save took, when saves grow slow on a long bake) and at the end; each save is a whole
+stage with its end time at its last frame, so a SIGKILL leaves the frames of the last save,
+readable.
 """
 
 from __future__ import annotations
@@ -33,7 +34,8 @@ from .frames import BakedFrame
 from .mesh_sequence import BakeIOError
 
 USD_SUFFIXES = (".usd", ".usdc", ".usda")
-SAVE_INTERVAL_S = 1.0   # wall time between saves: what a SIGKILL can lose at most
+SAVE_INTERVAL_S = 1.0   # wall time between saves: what a SIGKILL can lose, at least
+SAVE_SHARE = 0.2        # at most this share of the wall time goes to saving
 GROUND_HALF = 5.0       # m: half the side of the ground quad
 PLANE_HALF = 1.0        # m: half the side of the quad that shows an (infinite) plane
 SCENE_KEY = "cloth_tui:scene"
@@ -114,6 +116,7 @@ class UsdBakeWriter:
         self.frames = 0
         self.last_frame = 0
         self._saved_at = time.monotonic()
+        self._save_s = 0.0  # how long the last save took
 
     # -- the still parts ------------------------------------------------------------------
     def _define_ground(self) -> None:
@@ -185,7 +188,8 @@ class UsdBakeWriter:
             self._place_object(k, tuple(map(float, pose.center)), frame.frame)
         self.frames += 1
         self.last_frame = frame.frame
-        if time.monotonic() - self._saved_at >= SAVE_INTERVAL_S:
+        if time.monotonic() - self._saved_at >= max(SAVE_INTERVAL_S,
+                                                    self._save_s / SAVE_SHARE):
             self.save()
 
     def _place_object(self, k: int, centre: tuple, frame: int) -> None:
@@ -206,6 +210,7 @@ class UsdBakeWriter:
     # -- saving ---------------------------------------------------------------------------
     def save(self) -> None:
         """The whole stage, exported beside the target and renamed over it."""
+        started = time.monotonic()
         self.stage.SetEndTimeCode(max(1, self.last_frame))
         folder = self.path.parent if str(self.path.parent) else Path(".")
         tmp = folder / f".{self.path.stem}.{secrets.token_hex(4)}.part{self.path.suffix}"
@@ -225,6 +230,7 @@ class UsdBakeWriter:
             reason = getattr(e, "strerror", None) or (lines[-1] if lines else type(e).__name__)
             raise BakeIOError(f"cannot write {self.path}: {reason}") from None
         self._saved_at = time.monotonic()
+        self._save_s = self._saved_at - started
 
     def close(self) -> None:
         self.save()

@@ -164,3 +164,37 @@ def test_interrupt_finishes_the_bake(tmp_path, sig, status):
     n = _check_frames_are_the_simulation(out)
     assert f"stopped after {n} of" in err  # every frame done is in the file
     assert [p.name for p in tmp_path.iterdir()] == ["stopped.usda"]  # no temp left
+
+
+def test_saves_thin_out_when_they_grow_slow(tmp_path, monkeypatch):
+    """Each save rewrites the whole stage: on a long bake it must not eat the run. A save
+    that took 2 s is followed by the next only 2 / SAVE_SHARE = 10 s later (a fake clock)."""
+    from cloth_tui.io import usd_bake
+    from cloth_tui.io.frames import BakedFrame
+    from cloth_tui.sim.model import build_model
+
+    class Clock:
+        t = 0.0
+
+        def monotonic(self):
+            return self.t
+
+    clock = Clock()
+    monkeypatch.setattr(usd_bake, "time", clock)
+    saves = []
+    real_replace = os.replace
+
+    def slow_replace(src, dst):
+        saves.append(clock.t)
+        clock.t += 2.0
+        real_replace(src, dst)
+    monkeypatch.setattr(usd_bake.os, "replace", slow_replace)
+    scene = apply_overrides(load("sphere"), ["cloth.resolution=4"])
+    model = build_model(scene.cloth, scene.behavior)
+    writer = usd_bake.UsdBakeWriter(tmp_path / "s.usdc", scene, model)
+    for k in range(1, 41):
+        clock.t += 0.5
+        writer.write(BakedFrame(k, k / 60, model.rest_positions, ()))
+    assert saves[0] == 1.0  # the first after SAVE_INTERVAL_S
+    assert all(b - a >= 2.0 + 2.0 / usd_bake.SAVE_SHARE for a, b in zip(saves, saves[1:]))
+    assert len(saves) >= 2
