@@ -186,6 +186,33 @@ def test_thread_computes_full_statistics_only_every_interval(monkeypatch):
     assert published[-1].stats["frames"] == 0 and len(calls) == len(set(energies)) + 1
 
 
+def test_on_frame_sees_every_frame_also_those_published_as_one(monkeypatch):
+    """A thread behind time catches up several frames and publishes the last; a recorder
+    (on_frame) still gets each. The clock jumps 5 frames at every look, so it is always late."""
+    import threading
+
+    clock = [100.0]
+
+    def late_clock():
+        clock[0] += 5.0 / 60
+        return clock[0]
+    monkeypatch.setattr(runner.time, "perf_counter", late_clock)
+    thread = SimulationThread(scene(cloth__resolution=6))
+    seen, published, enough = [], [], threading.Event()
+
+    def on_frame(sim):
+        seen.append(sim.frames)
+        if len(seen) >= 30:
+            enough.set()
+    thread.on_frame = on_frame
+    thread.on_snapshot = lambda snap: published.append(snap.frame)
+    thread.start()
+    assert enough.wait(30)
+    thread.stop()
+    assert seen[:30] == list(range(1, 31))
+    assert len(published) < len(seen)  # some frames were published as one
+
+
 def test_simulate_summary_is_exact():
     sim = run(Simulation(scene(cloth__resolution=10)), 7)
     st = sim.stats()
