@@ -171,6 +171,9 @@ def cmd_accuracy(args) -> int:
 def cmd_app(args) -> int:
     from .scene import apply_overrides, load
 
+    if Path(args.scene).suffix.lower() in (".usd", ".usdc", ".usda"):
+        raise UsageError(f"{args.scene}: the app does not play bakes yet; draw it with "
+                         f"`cloth-tui render {args.scene} -o out.mp4`")
     scene = apply_overrides(load(args.scene), args.overrides)
     from .tui.app import run_app
     return run_app(scene, Path(args.captures))
