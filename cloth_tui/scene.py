@@ -18,6 +18,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .png_header import (MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE, PngHeaderError,
+                         read_png_header)
+from .safe_text import escape_controls
 from .texture_names import BUILTIN_TEXTURES
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
@@ -26,11 +29,19 @@ SCENES_DIR = ASSETS_DIR / "scenes"
 TEXTURES_DIR = ASSETS_DIR / "textures"
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
-TEXTURE_DOC = f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path"
+TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
+               f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
+# A direction shorter than this is refused: the kernels normalise it, and the square of a
+# length near the subnormal range underflows to 0 (a division by zero) or loses its digits.
+MIN_DIRECTION_NORM = 1e-6
 
 
 class SceneError(ValueError):
-    """A scene document, value or override that cannot be accepted. The message is one line."""
+    """A scene document, value or override that cannot be accepted. The message is one line,
+    with any control character from the user's keys, values or file names escaped."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(escape_controls(message))
 
 
 def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
@@ -45,6 +56,8 @@ def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
 
 
 def vec3(default: list[float], doc: str, *, unit: str = "", nonzero: bool = False) -> Any:
+    """A 3-vector; `nonzero` marks a direction, whose length must be at least
+    MIN_DIRECTION_NORM so that it can be normalised."""
     return key(default, doc, unit=unit, kind="vec3_nonzero" if nonzero else "vec3")
 
 
@@ -62,7 +75,8 @@ class Cloth:
     pinned: str = key("corners", "which particles are held fixed", choices=PIN_MODES)
     pin_fraction: float = key(0.05, "share of particles pinned when pinned = \"random\"",
                               lo=0.0, hi=1.0)
-    mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=0.0, lo_open=True, hi=1e6)
+    # lo: even at resolution 512 a particle keeps ≥ 4e-12 kg, so 1/mass stays far from overflow
+    mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=1e-6, hi=1e6)
     height: float = key(0.25, "initial height of the flat, horizontal sheet", unit="m",
                         lo=-1e3, hi=1e3)
 
@@ -121,8 +135,9 @@ class Behavior:
     bending: bool = key(True, "bending constraints (2-away in row and column)")
     iterations: int = key(4, "constraint passes per substep", lo=1, hi=1000)
     substeps: int = key(4, "substeps per frame", lo=1, hi=1000)
-    frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=0.0,
-                            lo_open=True, hi=10000.0)
+    # lo: a frame of at most 1 s; the app waits one frame period of wall time per frame
+    frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=1.0,
+                            hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
     solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
@@ -227,8 +242,13 @@ def _describe_allowed(f: dataclasses.Field) -> str:
         return "one of " + ", ".join(m["choices"])
     if m["kind"] == "color":
         return "a colour #rrggbb"
+    if m["kind"] == "texture":
+        side = math.isqrt(MAX_TEXTURE_PIXELS)
+        return (f"none, {', '.join(BUILTIN_TEXTURES)} or a .png path of at most "
+                f"{MAX_TEXTURE_PIXELS} pixels ({side}×{side})")
     if m["kind"].startswith("vec3"):
-        return "[x, y, z] of finite numbers" + (", not all zero" if "nonzero" in m["kind"] else "")
+        return ("[x, y, z] of numbers within ±1e+06" +
+                (f", of length ≥ {MIN_DIRECTION_NORM:g}" if "nonzero" in m["kind"] else ""))
     t = f.type if isinstance(f.type, str) else f.type.__name__
     lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
     hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
@@ -243,9 +263,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     m, t = f.metadata, (f.type if isinstance(f.type, str) else f.type.__name__)
 
     def bad(reason: str = "") -> SceneError:
-        shown = repr(value)
-        if len(shown) > 60:
-            shown = shown[:57] + "..."
+        shown = _show(value)
         return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
                           f"expected {_describe_allowed(f)}")
 
@@ -254,13 +272,16 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
             raise bad()
         out = []
         for v in value:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad()
-            out.append(float(v))
-        if "nonzero" in m["kind"] and not any(out):
-            raise bad("zero-length direction")
+            v = _finite_float(v)
+            if v is None:
+                raise bad("not a finite number")
+            out.append(v)
         if any(abs(v) > 1e6 for v in out):
             raise bad("too large")
+        if "nonzero" in m["kind"] and not math.hypot(*out) >= MIN_DIRECTION_NORM:
+            raise bad("zero-length direction" if not any(out) else "too short to give a direction")
         return out
     if t == "bool":
         if not isinstance(value, bool):
@@ -285,9 +306,10 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
                     raise bad()
                 value = int(value)
         else:
-            value = float(value)
-            if not math.isfinite(value):
-                raise bad()
+            as_float = _finite_float(value)
+            if as_float is None:
+                raise bad("not a finite number")
+            value = as_float
         lo, hi = m["lo"], m["hi"]
         if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
             raise bad()
@@ -297,13 +319,44 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     raise bad()
 
 
+def _finite_float(v: int | float) -> float | None:
+    """`v` as a float, or None when it is not finite (an integer of hundreds of digits
+    overflows the conversion)."""
+    try:
+        f = float(v)
+    except OverflowError:
+        return None
+    return f if math.isfinite(f) else None
+
+
+def _show(value: Any) -> str:
+    """A short repr of a user's value for an error message: never raises (an integer past
+    Python's 4300-digit repr limit, a list nested thousands deep) and never runs long."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
+        return f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits"
+    try:
+        shown = repr(value)
+    except (ValueError, RecursionError):
+        return f"a {type(value).__name__} too deep or too large to show"
+    return shown if len(shown) <= 60 else shown[:57] + "..."
+
+
 def _check_texture(value: str, bad) -> None:
     if value == "none" or value in BUILTIN_TEXTURES:
         return
     if not value.lower().endswith(".png"):
         raise bad()
-    if not Path(value).expanduser().is_file():
-        raise bad("file not found")
+    try:
+        path = Path(value).expanduser()
+        if not path.is_file():
+            raise bad("file not found")
+        read_png_header(path)
+    except RuntimeError:  # `~nosuchuser/…`: expanduser cannot find the home folder
+        raise bad("no such user's home folder") from None
+    except PngHeaderError as e:
+        raise bad(str(e)) from None
+    except OSError as e:  # a name too long, a folder without permission
+        raise bad(e.strerror or type(e).__name__) from None
 
 
 def validate(scene: Scene) -> None:
@@ -384,7 +437,8 @@ def _toml_value(v: Any) -> str:
 
 
 def dumps(scene: Scene) -> str:
-    lines = [f"# cloth-tui scene: {scene.name}"]
+    # A comment cannot hold control characters (a newline in a file's name would end it).
+    lines = [f"# cloth-tui scene: {escape_controls(scene.name)}"]
     for section, values in to_dict(scene).items():
         if section == "objects":
             for obj in values:
@@ -395,11 +449,18 @@ def dumps(scene: Scene) -> str:
 
 
 def loads(text: str, name: str = "scene") -> Scene:
+    return from_dict(_parse_toml(text, name), name)
+
+
+def _parse_toml(text: str, where: str) -> dict:
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise SceneError(f"{name}: TOML syntax error: {e}") from None
-    return from_dict(data, name)
+        raise SceneError(f"{where}: TOML syntax error: {e}") from None
+    except RecursionError:  # thousands of nested arrays or inline tables
+        raise SceneError(f"{where}: arrays or tables nested too deeply") from None
+    except ValueError:  # an integer past Python's 4300-digit conversion limit
+        raise SceneError(f"{where}: an integer with too many digits") from None
 
 
 def builtin_scenes() -> dict[str, Path]:
@@ -453,6 +514,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw
+    except RecursionError:
+        raise SceneError(f"--set {dotted}: arrays or tables nested too deeply") from None
+    except ValueError:  # an integer past Python's 4300-digit conversion limit
+        raise SceneError(f"--set {dotted}: an integer with too many digits") from None
     return dotted, value
 
 

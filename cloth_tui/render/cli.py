@@ -12,6 +12,7 @@ import sys
 import threading
 from pathlib import Path
 
+from ..safe_text import escape_controls
 from .capture import CaptureError, VideoWriter, save_png
 from .renderer import MAX_SIZE
 
@@ -70,11 +71,24 @@ class _Progress:
             sys.stderr.flush()
 
 
+def _check_textures(scene, usage_error) -> None:
+    """Decode the scene's textures once up front: a file that passed the scene's header check
+    but cannot be decoded (truncated, damaged) is bad input, reported before any work."""
+    from .textures import TextureError, load_texture_image
+
+    for name in (scene.appearance.cloth_texture, scene.appearance.ground_texture):
+        try:
+            load_texture_image(name)
+        except TextureError as e:
+            raise usage_error(str(e)) from None
+
+
 def run_render(args, load_scene, check_writable, usage_error) -> int:
     out = Path(args.output)
     check_writable(out, OUTPUT_SUFFIXES)
     size = parse_size(args.size, usage_error)
     scene = load_scene(args.scene, args.overrides)
+    _check_textures(scene, usage_error)
     kind = out.suffix.lower()
     frames = args.frames or (1 if kind == ".png" else 90)
     fps = getattr(args, "fps", 30) or 30
@@ -108,14 +122,14 @@ def run_render(args, load_scene, check_writable, usage_error) -> int:
         progress.end()
         if video is not None:
             video.abort()
-        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
         return 1
     finally:
         renderer.close()
     if interrupt.signum is not None:
         what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
         name = signal.Signals(interrupt.signum).name
-        print(f"cloth-tui: {name}: stopped after {done} of {frames} frames; {what}",
-              file=sys.stderr)
+        print(escape_controls(f"cloth-tui: {name}: stopped after {done} of {frames} frames; "
+                              f"{what}"), file=sys.stderr)
         return EXIT_BY_SIGNAL[interrupt.signum]
     return 0
