@@ -371,6 +371,17 @@ def validate(scene: Scene) -> None:
                          f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
                          f"2π·amplitude·frequency must not exceed behavior.max_speed = "
                          f"{b.max_speed:g} m/s")
+    c, s = scene.cloth, scene.scene
+    holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and
+                                                              c.pin_fraction > 0) or b.wave)
+    lowest_held = c.height - (b.wave_amplitude if b.wave else 0.0)  # the wave's trough
+    if s.floor and holds_particles and lowest_held < s.floor_height + s.thickness:
+        # Held particles cannot be pushed out of the floor: the contact could never hold.
+        raise SceneError(f"held particles (cloth.pinned = \"{c.pinned}\""
+                         f"{', behavior.wave' if b.wave else ''}) reach down to "
+                         f"{lowest_held:g} m, inside the floor (scene.floor_height = "
+                         f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m); raise "
+                         "cloth.height or lower the floor")
     n = scene.cloth.resolution
     if b.self_collision == "naive" and n > 128:
         raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "

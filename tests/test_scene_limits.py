@@ -203,3 +203,30 @@ def test_a_scene_file_name_with_control_characters_saves_and_loads(tmp_path_fact
     loaded = sc.load(path)
     assert loaded == scene and loaded.name == name
     assert sc.load(sc.save(loaded, folder / "again.toml")) == scene
+
+
+# -- combinations that cannot start legally ------------------------------------------------
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.floats(-5, 2), st.floats(-2, 1), st.floats(0, 0.2),
+       st.sampled_from(["corners", "one_edge", "four_edges", "random", "none"]), st.booleans(),
+       st.floats(0, 1))
+def test_held_particles_never_start_inside_the_floor(height, floor, thickness, pinned, wave,
+                                                     amplitude):
+    """A scene is refused, or its contacts hold from the first frame: pinned (or wave-held)
+    particles below the floor can never be pushed out."""
+    from cloth_tui.sim.runner import Simulation
+
+    try:
+        scene = sc.Scene().with_values({
+            "cloth.height": height, "scene.floor_height": floor, "scene.thickness": thickness,
+            "cloth.pinned": pinned, "cloth.pin_fraction": 0.3, "cloth.resolution": 6,
+            "behavior.wave": wave, "behavior.wave_amplitude": amplitude,
+            "behavior.max_speed": 1e3})
+    except sc.SceneError as e:
+        assert "\n" not in str(e)
+        return
+    sim = Simulation(scene)
+    for _ in range(4):
+        sim.advance_frame()
+    assert sim.stats()["penetration"] <= thickness + 0.01
