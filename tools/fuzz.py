@@ -122,7 +122,7 @@ def random_scene(seed: int, index: int) -> dict:
     if behavior.get("solver", "pbd") != "springs" and rng.random() < 0.9:
         behavior.pop("integrator", None)  # pbd/xpbd need verlet: keep most scenes runnable
     _within_budget(doc)
-    return doc
+    return {k: v for k, v in doc.items() if v}
 
 
 def _within_budget(doc: dict) -> None:
