@@ -483,7 +483,11 @@ def load(ref: str | os.PathLike) -> Scene:
     path = Path(ref)
     if not path.suffix and str(ref) in builtin_scenes():
         path = builtin_scenes()[str(ref)]
-    if not path.is_file():
+    try:
+        is_file = path.is_file()
+    except OSError as e:  # a name longer than the file system allows
+        raise SceneError(f"scene {_show(str(ref))}: {e.strerror}") from None
+    if not is_file:
         names = ", ".join(builtin_scenes())
         raise SceneError(f"scene {str(ref)!r} not found: not a file, nor a built-in scene "
                          f"({names})")

@@ -62,3 +62,12 @@ def test_a_scene_file_named_with_a_newline_runs(tmp_path):
     path.write_text("[cloth]\nresolution = 4\n", encoding="utf-8")
     code, out, _ = run_cli(["simulate", str(path), "--frames", "1", "--json"])
     assert code == 0 and json.loads(out)["particles"] == 16
+
+
+def test_paths_longer_than_the_file_system_allows_exit_2(tmp_path):
+    for argv in (["simulate", "a" * 300 + ".toml"],
+                 ["simulate", "default", "--set", "appearance.cloth_texture=" + "b" * 300 + ".png"],
+                 ["simulate", "default", "--set", "appearance.ground_texture=~nosuchuser/a.png"]):
+        code, _, err = run_cli(argv)
+        assert code == 2, argv
+        assert_one_safe_line(err)
