@@ -18,10 +18,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .png_header import (MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE, PngHeaderError,
-                         read_png_header)
+from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .safe_text import escape_controls
 from .texture_names import BUILTIN_TEXTURES
+from .user_values import finite_float, short_repr, texture_file_problem
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 ASSETS_DIR = Path(__file__).resolve().parent.parent / "assets"
@@ -263,7 +263,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     m, t = f.metadata, (f.type if isinstance(f.type, str) else f.type.__name__)
 
     def bad(reason: str = "") -> SceneError:
-        shown = _show(value)
+        shown = short_repr(value)
         return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
                           f"expected {_describe_allowed(f)}")
 
@@ -274,7 +274,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
         for v in value:
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad()
-            v = _finite_float(v)
+            v = finite_float(v)
             if v is None:
                 raise bad("not a finite number")
             out.append(v)
@@ -306,7 +306,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
                     raise bad()
                 value = int(value)
         else:
-            as_float = _finite_float(value)
+            as_float = finite_float(value)
             if as_float is None:
                 raise bad("not a finite number")
             value = as_float
@@ -319,44 +319,14 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     raise bad()
 
 
-def _finite_float(v: int | float) -> float | None:
-    """`v` as a float, or None when it is not finite (an integer of hundreds of digits
-    overflows the conversion)."""
-    try:
-        f = float(v)
-    except OverflowError:
-        return None
-    return f if math.isfinite(f) else None
-
-
-def _show(value: Any) -> str:
-    """A short repr of a user's value for an error message: never raises (an integer past
-    Python's 4300-digit repr limit, a list nested thousands deep) and never runs long."""
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
-        return f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits"
-    try:
-        shown = repr(value)
-    except (ValueError, RecursionError):
-        return f"a {type(value).__name__} too deep or too large to show"
-    return shown if len(shown) <= 60 else shown[:57] + "..."
-
-
 def _check_texture(value: str, bad) -> None:
     if value == "none" or value in BUILTIN_TEXTURES:
         return
     if not value.lower().endswith(".png"):
         raise bad()
-    try:
-        path = Path(value).expanduser()
-        if not path.is_file():
-            raise bad("file not found")
-        read_png_header(path)
-    except RuntimeError:  # `~nosuchuser/…`: expanduser cannot find the home folder
-        raise bad("no such user's home folder") from None
-    except PngHeaderError as e:
-        raise bad(str(e)) from None
-    except OSError as e:  # a name too long, a folder without permission
-        raise bad(e.strerror or type(e).__name__) from None
+    problem = texture_file_problem(value)
+    if problem:
+        raise bad(problem)
 
 
 def validate(scene: Scene) -> None:
@@ -486,7 +456,7 @@ def load(ref: str | os.PathLike) -> Scene:
     try:
         is_file = path.is_file()
     except OSError as e:  # a name longer than the file system allows
-        raise SceneError(f"scene {_show(str(ref))}: {e.strerror}") from None
+        raise SceneError(f"scene {short_repr(str(ref))}: {e.strerror}") from None
     if not is_file:
         names = ", ".join(builtin_scenes())
         raise SceneError(f"scene {str(ref)!r} not found: not a file, nor a built-in scene "
