@@ -61,6 +61,8 @@ def _number(rng: random.Random, f: dataclasses.Field) -> float | int:
         v = hi
     elif pick < 0.45:
         v = default
+    elif lo < 0 < hi and rng.random() < 0.7:  # heights: mostly near the sheet and floor
+        v = rng.uniform(max(lo, -3.0), min(hi, 3.0))
     elif lo > 0 or (lo == 0 and rng.random() < 0.7):  # log-uniform over positive ranges
         lo_pos = max(lo, 1e-9, hi * 1e-12)
         v = math.exp(rng.uniform(math.log(lo_pos), math.log(hi)))
@@ -121,8 +123,19 @@ def random_scene(seed: int, index: int) -> dict:
     behavior = doc.get("behavior", {})
     if behavior.get("solver", "pbd") != "springs" and rng.random() < 0.9:
         behavior.pop("integrator", None)  # pbd/xpbd need verlet: keep most scenes runnable
+    _sheet_above_floor(rng, doc)
     _within_budget(doc)
     return {k: v for k, v in doc.items() if v}
+
+
+def _sheet_above_floor(rng: random.Random, doc: dict) -> None:
+    """Most of the time, swap a sheet height and floor height drawn the wrong way round:
+    pinned sheets starting inside the floor are refused, and half the scenes would be."""
+    cloth, section = doc.get("cloth", {}), doc.get("scene", {})
+    h, f = cloth.get("height", 0.25), section.get("floor_height", -0.5)
+    numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (h, f))
+    if numbers and h < f and rng.random() < 0.8:
+        doc.setdefault("cloth", {})["height"], doc.setdefault("scene", {})["floor_height"] = f, h
 
 
 def _within_budget(doc: dict) -> None:
