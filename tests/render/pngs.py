@@ -63,6 +63,11 @@ def blank_png(width: int, height: int, depth: int = 1, colour: int = 0) -> bytes
         b"IEND", b"")
 
 
+def header_only(width: int, height: int, depth: int = 8, colour: int = 2) -> bytes:
+    """A PNG that declares its size and holds no pixel data: enough for a header check."""
+    return SIGNATURE + ihdr(width, height, depth, colour) + chunk(b"IEND", b"")
+
+
 def animated_png(frames: list[np.ndarray]) -> bytes:
     """An APNG of RGB uint8 frames of one size; the first frame is also the still image."""
     h, w, _ = frames[0].shape
