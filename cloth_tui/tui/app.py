@@ -20,6 +20,7 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
+from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
@@ -67,6 +68,13 @@ class ClothApp(App):
         self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
+
+    def notify(self, message: str, *, title: str = "", severity: str = "information",
+               timeout: float | None = None, markup: bool = False) -> None:
+        """Every notice shows its text literally: file names, keys and values in it come from
+        the user, so control characters are escaped and brackets are not read as markup."""
+        super().notify(escape_controls(message), title=escape_controls(title),
+                       severity=severity, timeout=timeout, markup=False)
 
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -434,8 +442,8 @@ def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
         if not os.access(captures_dir, os.W_OK):
             raise PermissionError(13, "not writable")
     except OSError as e:
-        print(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
-              f"{e.strerror or e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
+                              f"{e.strerror or e}"), file=sys.stderr)
         return 2
     kwargs.setdefault("tame_gc", True)  # process-wide, so only for the real app, not tests
     app = ClothApp(scene, captures_dir, **kwargs)
