@@ -71,11 +71,6 @@ class Simulation:
     """One cloth in one scene. Not thread-safe: `SimulationThread` serialises access."""
 
     def __init__(self, scene: Scene):
-        self.recoveries = 0
-        self.penetration = 0.0
-        self.frames = 0
-        self.wall_s = 0.0
-        self.last_step_s = 0.0
         self._rebuild(scene, model=True)
 
     # -- building -------------------------------------------------------------------------
@@ -84,7 +79,7 @@ class Simulation:
         if model:
             self.model = build_model(scene.cloth, scene.behavior)
             self.state = ClothState.from_model(self.model)
-            self.penetration = 0.0
+            self._start_run()
             self._free = self.model.inv_mass > 0.0  # pins move as prescribed, however fast
         self.step = pipeline.build(scene, self.model)
         self._guard_level = 0
@@ -101,10 +96,17 @@ class Simulation:
         self._rebuild(scene, model=rebuild_model)
         return rebuild_model
 
-    def reset(self) -> None:
-        self._rebuild(self.scene, model=True)
+    def _start_run(self) -> None:
+        """A new sheet at rest starts a new run: what was counted in the last one (frames,
+        time, retried frames, deepest penetration) must not be shown as this one's."""
         self.frames = 0
         self.wall_s = 0.0
+        self.last_step_s = 0.0
+        self.recoveries = 0
+        self.penetration = 0.0
+
+    def reset(self) -> None:
+        self._rebuild(self.scene, model=True)
 
     # -- stepping -------------------------------------------------------------------------
     def advance_frame(self) -> None:
