@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import Any, Callable
 
 import numpy as np
-from rich.color import Color
+from rich.color import Color, ColorSystem
+from rich.console import COLOR_SYSTEMS
 from rich.segment import Segment
 from rich.style import Style
 from textual import events
@@ -61,12 +62,23 @@ class StyleCache:
     the default scene uses ~450 pairs, but turning the camera keeps making new ones (100–250
     a second), so the cache is bounded (at most 2·`limit` styles and colours, ≤ 6 MB)
     rather than let grow: cleared only at 50,000 styles, with two colours each, it grew the
-    app by up to ~30 MB."""
+    app by up to ~30 MB.
 
-    def __init__(self, limit: int = 4096):
+    Given the terminal's `color_system`, each new style gets its terminal codes made once
+    (Rich keeps them on the style, and Textual draws a style with those when present);
+    otherwise Textual makes them through its class-wide cache of 16,384 styles
+    (`Strip.render_ansi`), which would then keep every pair the view ever showed alive."""
+
+    def __init__(self, limit: int = 4096, color_system: ColorSystem | None = None):
         colors = RecentCache(_rgb_color, limit)
-        self._styles = RecentCache(
-            lambda key: Style(color=colors(key >> 24), bgcolor=colors(key & 0xFFFFFF)), limit)
+
+        def style(key: int) -> Style:
+            s = Style(color=colors(key >> 24), bgcolor=colors(key & 0xFFFFFF))
+            if color_system is not None:
+                s.render(HALF, color_system=color_system)
+            return s
+
+        self._styles = RecentCache(style, limit)
 
     def __call__(self, key: int) -> Style:
         return self._styles(key)
@@ -156,6 +168,11 @@ class Preview(Widget):
         self.crosshair: tuple[float, float] = (0.5, 0.5)
         self.frames_shown = 0
         self._drag_from: tuple[float, float] | None = None
+
+    def on_mount(self) -> None:
+        # Textual draws in the console's colour system (truecolor when it names none).
+        system = COLOR_SYSTEMS.get(self.app.console.color_system or "truecolor")
+        self._styles = StyleCache(color_system=system)
 
     # -- data in -------------------------------------------------------------------------
     def show_image(self, image: np.ndarray) -> None:

@@ -1,7 +1,15 @@
 """The preview's style cache stays bounded however many colours a turning camera shows, and
 keeps the styles a frame keeps using."""
 
+import io
 import random
+
+import pytest
+from rich.color import ColorSystem
+from rich.console import Console
+from rich.segment import Segment
+from rich.style import Style
+from textual.strip import Strip
 
 from cloth_tui.tui.preview import RecentCache, StyleCache
 
@@ -59,3 +67,31 @@ def test_the_default_cache_holds_a_few_megabytes_at_most():
     finally:
         tracemalloc.stop()
     assert peak < 6e6, f"{peak / 1e6:.1f} MB"
+
+
+def random_pairs(n: int, seed: int) -> list[int]:
+    rng = random.Random(seed)
+    return [pair(rng.randrange(1 << 24), rng.randrange(1 << 24)) for _ in range(n)]
+
+
+@pytest.mark.parametrize("name, system", [("truecolor", ColorSystem.TRUECOLOR),
+                                          ("256", ColorSystem.EIGHT_BIT),
+                                          ("standard", ColorSystem.STANDARD)])
+def test_styles_draw_as_textual_would_draw_them(name, system):
+    console = Console(file=io.StringIO(), color_system=name, force_terminal=True)
+    cache = StyleCache(color_system=system)
+    for key in random_pairs(200, seed=11):
+        top, bottom = key >> 24, key & 0xFFFFFF
+        plain = Style(color=f"#{top:06x}", bgcolor=f"#{bottom:06x}")
+        assert Strip([Segment("▀▀", cache(key))]).render(console) == \
+               Strip([Segment("▀▀", plain)]).render(console)
+
+
+def test_drawing_new_colours_leaves_textuals_class_wide_cache_alone():
+    """That cache (16,384 styles) would otherwise keep every pair ever shown alive."""
+    console = Console(file=io.StringIO(), color_system="truecolor", force_terminal=True)
+    cache = StyleCache(color_system=ColorSystem.TRUECOLOR)
+    before = Strip.render_ansi.cache_info().currsize
+    for key in random_pairs(500, seed=13):
+        Strip([Segment("▀", cache(key))]).render(console)
+    assert Strip.render_ansi.cache_info().currsize == before
