@@ -4,7 +4,7 @@
    strip's own width the result is `[self]`, so the strip then refers to itself through its
    cache. The compositor divides every line it redraws, so every redrawn line became a
    reference cycle that only the cycle collector frees: for the preview ~2,400 lines
-   (~260,000 Segments) a second, 3.6 MB/s while the collector was tuned to run rarely
+   (~51,000 Segments) a second, 3.6 MB/s while the collector was tuned to run rarely
    (Textual 8.2.8). `install_acyclic_strip_divide()` wraps `divide` so that case returns a
    fresh `[self]` without caching it: the same result, no cycle. Every other case is
    Textual's own code, cache included (its cached pieces are new strips, which do not

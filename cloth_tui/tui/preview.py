@@ -60,7 +60,7 @@ def _rgb_color(rgb: int) -> Color:
 class StyleCache:
     """Rich styles for packed (top, bottom) colour pairs, sharing their colours. A frame of
     the default scene uses ~450 pairs, but turning the camera keeps making new ones (100–250
-    a second), so the cache is bounded (at most 2·`limit` styles and colours, ≤ 6 MB)
+    a second), so the cache is bounded (at most 2·`limit` styles and colours, ≤ 7 MB)
     rather than let grow: cleared only at 50,000 styles, with two colours each, it grew the
     app by up to ~30 MB.
 
@@ -75,7 +75,7 @@ class StyleCache:
         def style(key: int) -> Style:
             s = Style(color=colors(key >> 24), bgcolor=colors(key & 0xFFFFFF))
             if color_system is not None:
-                s.render(HALF, color_system=color_system)
+                s.render(HALF, color_system=color_system)  # Rich keeps the codes on `s`
             return s
 
         self._styles = RecentCache(style, limit)
