@@ -152,7 +152,7 @@ def soak(seconds: float, warmup: float, scene: str, size: tuple[int, int],
         app.press("v")
         wait_until(warmup)
         rss_warm = rss_mb(pid)
-        pc_warm = time.perf_counter()
+        pc_warm = time.perf_counter()  # CLOCK_MONOTONIC on Linux, as the app's log times
         samples = [(time.monotonic(), rss_warm)]
         span = seconds - warmup
         record_from = warmup + span * (1 - record_fraction) / 2
