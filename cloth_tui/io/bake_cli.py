@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
+from ..safe_text import escape_controls
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .frames import BakedFrame, BakeWriter
@@ -62,13 +63,13 @@ def run_bake(args) -> int:
             writer.close()
     except BakeIOError as e:
         progress.end()
-        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
         return 1
     progress.end()
     where = out if out.suffix.lower() in USD_SUFFIXES else \
         f"{sequence_path(out, 1)} … {sequence_path(out, max(1, done)).name}"
     if interrupt.signum is not None:
-        print(f"cloth-tui: {interrupt.name}: stopped after {done} of {frames} frames; "
-              f"saved {where}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of {frames} "
+                              f"frames; saved {where}"), file=sys.stderr)
         return EXIT_BY_SIGNAL[interrupt.signum]
     return 0

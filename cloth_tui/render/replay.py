@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Callable
 
 from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
 from ..io.usd_read import UsdBake
+from ..safe_text import escape_controls
 from ..scene import apply_overrides, parse_override
 from ..sim.model import build_model
 from ..sim.runner import Snapshot
@@ -32,9 +34,11 @@ def bake_scene(bake: UsdBake, overrides: list[str]):
     return apply_overrides(bake.scene, overrides)
 
 
-def run_replay(args, out: Path, size: tuple[int, int]) -> int:
+def run_replay(args, out: Path, size: tuple[int, int],
+               check_textures: Callable[[object], None]) -> int:
     bake = UsdBake(Path(args.scene))
     scene = bake_scene(bake, args.overrides)
+    check_textures(scene)  # a damaged texture is bad input, said before any work
     model = build_model(scene.cloth, scene.behavior)
     if len(bake.positions(bake.frames[0])) != model.num_particles:
         raise UsageError(f"{args.scene}: its cloth has {len(bake.positions(bake.frames[0]))} "
@@ -46,7 +50,7 @@ def run_replay(args, out: Path, size: tuple[int, int]) -> int:
     try:
         require_renderer()
     except RendererUnavailable as e:
-        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
         return 1
 
     from .renderer import Renderer
@@ -78,13 +82,13 @@ def run_replay(args, out: Path, size: tuple[int, int]) -> int:
         progress.end()
         if video is not None:
             video.abort()
-        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
         return 1
     finally:
         renderer.close()
     if interrupt.signum is not None:
         what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
-        print(f"cloth-tui: {interrupt.name}: stopped after {done} of {len(frames)} frames; "
-              f"{what}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of "
+                              f"{len(frames)} frames; {what}"), file=sys.stderr)
         return EXIT_BY_SIGNAL[interrupt.signum]
     return 0
