@@ -142,6 +142,8 @@ def _object_mesh(pv, pose):
     if pose.type == "capsule":
         return pv.Capsule(direction=tuple(pose.axis), radius=pose.radius,
                           cylinder_length=float(pose.length), resolution=30).triangulate()
+    if pose.type == "mesh" and pose.surface is not None:
+        return pv.PolyData.from_regular_faces(pose.surface.vertices, pose.surface.faces)
     if pose.type == "plane":
         return pv.Plane(direction=tuple(pose.normal), i_size=2 * PLANE_HALF,
                         j_size=2 * PLANE_HALF)
@@ -165,7 +167,7 @@ class Objects:
         for k, pose in enumerate(poses):
             shape = (pose.type, float(pose.radius), tuple(map(float, pose.size)),
                      tuple(map(float, pose.normal)), tuple(map(float, pose.axis)),
-                     float(pose.length))
+                     float(pose.length), pose.surface.key if pose.surface else "")
             if k == len(self.actors):
                 mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
                 opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
