@@ -11,16 +11,18 @@ under a fine sheet stays at most MAX_CELLS³ samples (about a second to build). 
 the collision skin and PAD_CELLS cells on every side; beyond it, the distance is taken as
 far (no contact). Results are cached per (file, its size and mtime, transform, cell).
 
-Closed surfaces get a signed distance (negative inside, by a ray-casting inside test). A
-surface with boundary or non-manifold edges has no inside: it gets the unsigned distance, so
-the cloth is kept a skin away from either side of it (a thin sheet cannot stop a particle
-that crosses the whole skin in one substep; closed meshes have no such limit).
+The surface must be closed (no boundary or non-manifold edge): its distance is signed,
+negative inside, by a ray-casting inside test. An open surface is refused with one line. (An
+unsigned or face-signed distance was tried for open ones: the sign flips across the plane
+of a boundary edge, a phantom wall beyond it that threw the sheet upward, and the unsigned
+distance lets a particle through that crosses the skin within a substep.)
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -51,9 +53,8 @@ class MeshField:
     surface: MeshSurface
     origin: np.ndarray    # (3,) m
     cell: float           # m
-    distance: np.ndarray  # (nx, ny, nz) m, negative inside (if signed)
+    distance: np.ndarray  # (nx, ny, nz) m, negative inside
     gradient: np.ndarray  # (nx, ny, nz, 3)
-    signed: bool
 
 
 def rotation_matrix(degrees) -> np.ndarray:
@@ -65,11 +66,6 @@ def rotation_matrix(degrees) -> np.ndarray:
     ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
     rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
     return rz @ ry @ rx
-
-
-def check_mesh_file(path: str, where: str) -> None:
-    """Read the file once (cached) so a bad one fails at scene load, with one line."""
-    _read_surface(*_file_key(path, where), where)
 
 
 def field_for(obj, spacing: float, thickness: float, where: str = "objects") -> MeshField:
@@ -98,14 +94,21 @@ def _file_key(path: str, where: str) -> tuple[str, int, int]:
 
 @functools.lru_cache(maxsize=8)
 def _read_surface(path: str, size: int, mtime: int, where: str):
-    """The file's closed-or-not triangle surface (a PyVista PolyData) and whether it is
-    closed. size and mtime are part of the cache key: an edited file is read again."""
+    """The file's closed triangle surface (a PyVista PolyData). size and mtime are part of
+    the cache key: an edited file is read again."""
     import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkObject
+    display = vtkObject.GetGlobalWarningDisplay()
+    vtkObject.GlobalWarningDisplayOff()  # a bad file reads as empty: one line below, not VTK's
     try:
-        data = pv.read(path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # (e.g. pyvista casting integer points to float)
+            data = pv.read(path)
     except Exception as e:  # VTK readers raise many kinds; any is a bad file to the user
         raise SceneError(f"{where}.path = {path!r}: cannot read the mesh: "
                          f"{str(e).splitlines()[0] if str(e) else type(e).__name__}") from None
+    finally:
+        vtkObject.SetGlobalWarningDisplay(display)
     if not isinstance(data, pv.PolyData):
         try:
             data = data.extract_surface()
@@ -113,7 +116,8 @@ def _read_surface(path: str, size: int, mtime: int, where: str):
             raise SceneError(f"{where}.path = {path!r}: not a surface mesh") from None
     surface = data.triangulate().clean() if data.n_cells else data
     if surface.n_points == 0 or surface.n_cells == 0 or surface.area <= 0.0:
-        raise SceneError(f"{where}.path = {path!r}: the mesh has no triangles")
+        raise SceneError(f"{where}.path = {path!r}: no triangles (an empty or unreadable "
+                         "mesh file)")
     if surface.n_cells > MAX_TRIANGLES:
         raise SceneError(f"{where}.path = {path!r}: {surface.n_cells} triangles; at most "
                          f"{MAX_TRIANGLES} are allowed")
@@ -121,8 +125,11 @@ def _read_surface(path: str, size: int, mtime: int, where: str):
         raise SceneError(f"{where}.path = {path!r}: the mesh has non-finite coordinates")
     bad_edges = surface.extract_feature_edges(boundary_edges=True, non_manifold_edges=True,
                                               feature_edges=False, manifold_edges=False)
-    closed = bad_edges.n_cells == 0
-    return surface, closed
+    if bad_edges.n_cells:
+        raise SceneError(f"{where}.path = {path!r}: the surface is not closed ("
+                         f"{bad_edges.n_cells} boundary or non-manifold edges); a mesh "
+                         "collider needs a closed surface (fill its holes first)")
+    return surface
 
 
 def _inside(grid, surface) -> np.ndarray:
@@ -141,7 +148,7 @@ def _inside(grid, surface) -> np.ndarray:
 def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness: float,
            where: str) -> MeshField:
     import pyvista as pv
-    raw, closed = _read_surface(*key, where)
+    raw = _read_surface(*key, where)
     surface = raw.copy()
     surface.points = (np.asarray(raw.points, dtype=np.float64) * scale) @ \
         rotation_matrix(rotation).T
@@ -155,11 +162,10 @@ def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness:
                         origin=tuple(origin))
     d = np.abs(np.asarray(grid.compute_implicit_distance(surface)["implicit_distance"],
                           dtype=np.float64))
-    if closed:
-        # vtkImplicitPolyDataDistance's own sign comes from the nearest face's normal and is
-        # wrong near edges and vertices (measured: ±0.15 m errors on a torus); an inside test
-        # by ray casting is not
-        d = np.where(_inside(grid, surface), -d, d)
+    # vtkImplicitPolyDataDistance's own sign comes from the nearest face's normal and is
+    # wrong near edges and vertices (measured: ±0.15 m errors on a torus); an inside test by
+    # ray casting is not
+    d = np.where(_inside(grid, surface), -d, d)
     d = d.reshape(tuple(dims), order="F")  # VTK: x varies fastest
     gradient = np.stack(np.gradient(d, cell), axis=-1)
     faces = np.asarray(surface.regular_faces, dtype=np.int64)
@@ -168,4 +174,4 @@ def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness:
     for arr in (mesh.vertices, mesh.faces, d, gradient):
         arr.setflags(write=False)
     return MeshField(mesh, origin, cell, np.ascontiguousarray(d),
-                     np.ascontiguousarray(gradient), closed)
+                     np.ascontiguousarray(gradient))
