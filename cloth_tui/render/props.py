@@ -159,6 +159,15 @@ class Objects:
         self.actors: list = []
         self.shapes: list = []
 
+    def _add(self, pose):
+        mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
+        opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
+        actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
+                                      smooth_shading=pose.type != "box", specular=0.3,
+                                      reset_camera=False)
+        actor.prop.backface_culling = False
+        return actor
+
     def update(self, poses) -> None:
         poses = tuple(poses or ())
         while len(self.actors) > len(poses):
@@ -169,17 +178,14 @@ class Objects:
                      tuple(map(float, pose.normal)), tuple(map(float, pose.axis)),
                      float(pose.length), pose.surface.key if pose.surface else "")
             if k == len(self.actors):
-                mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-                opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
-                actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
-                                              smooth_shading=pose.type != "box",
-                                              specular=0.3, reset_camera=False)
-                actor.prop.backface_culling = False
-                self.actors.append(actor)
+                self.actors.append(self._add(pose))
                 self.shapes.append(shape)
             elif shape != self.shapes[k]:
-                mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-                self.actors[k].mapper.dataset.copy_from(mesh)
+                # a new actor, not new points in the old one: with smooth shading the mapper
+                # draws a copy (with normals) that a copy_from into its dataset never reached
+                # (a sphere changed to a capsule stayed a sphere)
+                self.plotter.remove_actor(self.actors[k], render=False)
+                self.actors[k] = self._add(pose)
                 self.shapes[k] = shape
             centre = np.asarray(pose.center, dtype=np.float64)
             if np.all(np.isfinite(centre)):
