@@ -144,7 +144,7 @@ def _inside(grid, surface) -> np.ndarray:
     return np.asarray(pv.wrap(select.GetOutput())["SelectedPoints"]).astype(bool)
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=4)  # a grid is up to ~70³ samples × 4 arrays: ≤ 11 MB
 def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness: float,
            where: str) -> MeshField:
     import pyvista as pv
