@@ -166,6 +166,7 @@ def cmd_app(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
+    from .safe_text import escape_controls
     from .scene import SceneError
 
     app_parser, cmd_parser = build_parsers()
@@ -178,8 +179,8 @@ def main(argv: list[str] | None = None) -> int:
             handler = cmd_app
         return handler(args)
     except (UsageError, SceneError) as e:
-        print(f"cloth-tui: error: {e}".replace("cloth-tui: error: cloth-tui", "cloth-tui"),
-              file=sys.stderr)
+        message = f"cloth-tui: error: {e}".replace("cloth-tui: error: cloth-tui", "cloth-tui")
+        print(escape_controls(message), file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("cloth-tui: interrupted", file=sys.stderr)
@@ -192,6 +193,6 @@ def main(argv: list[str] | None = None) -> int:
         fd, log = tempfile.mkstemp(prefix="cloth-tui-crash-", suffix=".log")
         with os.fdopen(fd, "w") as fh:
             traceback.print_exc(file=fh)
-        print(f"cloth-tui: internal error: {type(e).__name__}: {e} (traceback in {log})",
-              file=sys.stderr)
+        print(escape_controls(f"cloth-tui: internal error: {type(e).__name__}: {e} "
+                              f"(traceback in {log})"), file=sys.stderr)
         return 1

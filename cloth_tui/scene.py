@@ -17,18 +17,29 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .resources import builtin_scenes  # name → file; also used as scene.builtin_scenes
+from .safe_text import escape_controls
 from .texture_names import BUILTIN_TEXTURES
+from .user_values import finite_float, short_repr, texture_file_problem
 from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 MAX_RESOLUTION = 512
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
-TEXTURE_DOC = f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path"
+TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
+               f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
+# A direction shorter than this is refused: the kernels normalise it, and the square of a
+# length near the subnormal range underflows to 0 (a division by zero) or loses its digits.
+MIN_DIRECTION_NORM = 1e-6
 
 
 class SceneError(ValueError):
-    """A scene document, value or override that cannot be accepted. The message is one line."""
+    """A scene document, value or override that cannot be accepted. The message is one line,
+    with any control character from the user's keys, values or file names escaped."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(escape_controls(message))
 
 
 def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
@@ -43,6 +54,8 @@ def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
 
 
 def vec3(default: list[float], doc: str, *, unit: str = "", nonzero: bool = False) -> Any:
+    """A 3-vector; `nonzero` marks a direction, whose length must be at least
+    MIN_DIRECTION_NORM so that it can be normalised."""
     return key(default, doc, unit=unit, kind="vec3_nonzero" if nonzero else "vec3")
 
 
@@ -63,7 +76,8 @@ class Cloth:
     pinned: str = key("corners", "which particles are held fixed", choices=PIN_MODES)
     pin_fraction: float = key(0.05, "share of particles pinned when pinned = \"random\"",
                               lo=0.0, hi=1.0)
-    mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=0.0, lo_open=True, hi=1e6)
+    # lo: even at resolution 512 a particle keeps ≥ 4e-12 kg, so 1/mass stays far from overflow
+    mass: float = key(0.2, "mass of the whole sheet", unit="kg", lo=1e-6, hi=1e6)
     mass_model: str = key("area", "how the mass is shared: area (each particle its share of "
                           "the sheet: edges ½, corners ¼ of an interior one) or uniform (the "
                           "original's equal masses)", choices=MASS_MODELS)
@@ -142,8 +156,9 @@ class Behavior:
                                    hi=10.0)
     max_substeps: int = key(128, "adaptive: the most substeps per frame it may use",
                             lo=1, hi=1000)
-    frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=0.0,
-                            lo_open=True, hi=10000.0)
+    # lo: a frame of at most 1 s; the app waits one frame period of wall time per frame
+    frame_rate: float = key(60.0, "frames per simulated second", unit="1/s", lo=1.0,
+                            hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
     solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
@@ -247,8 +262,13 @@ def _describe_allowed(f: dataclasses.Field) -> str:
         return "one of " + ", ".join(m["choices"])
     if m["kind"] == "color":
         return "a colour #rrggbb"
+    if m["kind"] == "texture":
+        side = math.isqrt(MAX_TEXTURE_PIXELS)
+        return (f"none, {', '.join(BUILTIN_TEXTURES)} or a .png path of at most "
+                f"{MAX_TEXTURE_PIXELS} pixels ({side}×{side})")
     if m["kind"].startswith("vec3"):
-        return "[x, y, z] of finite numbers" + (", not all zero" if "nonzero" in m["kind"] else "")
+        return ("[x, y, z] of numbers within ±1e+06" +
+                (f", of length ≥ {MIN_DIRECTION_NORM:g}" if "nonzero" in m["kind"] else ""))
     t = f.type if isinstance(f.type, str) else f.type.__name__
     lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
     hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
@@ -263,9 +283,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     m, t = f.metadata, (f.type if isinstance(f.type, str) else f.type.__name__)
 
     def bad(reason: str = "") -> SceneError:
-        shown = repr(value)
-        if len(shown) > 60:
-            shown = shown[:57] + "..."
+        shown = short_repr(value)
         return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
                           f"expected {_describe_allowed(f)}")
 
@@ -274,13 +292,16 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
             raise bad()
         out = []
         for v in value:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
                 raise bad()
-            out.append(float(v))
-        if "nonzero" in m["kind"] and not any(out):
-            raise bad("zero-length direction")
+            v = finite_float(v)
+            if v is None:
+                raise bad("not a finite number")
+            out.append(v)
         if any(abs(v) > 1e6 for v in out):
             raise bad("too large")
+        if "nonzero" in m["kind"] and not math.hypot(*out) >= MIN_DIRECTION_NORM:
+            raise bad("zero-length direction" if not any(out) else "too short to give a direction")
         return out
     if t == "bool":
         if not isinstance(value, bool):
@@ -305,9 +326,10 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
                     raise bad()
                 value = int(value)
         else:
-            value = float(value)
-            if not math.isfinite(value):
-                raise bad()
+            as_float = finite_float(value)
+            if as_float is None:
+                raise bad("not a finite number")
+            value = as_float
         lo, hi = m["lo"], m["hi"]
         if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
             raise bad()
@@ -322,8 +344,9 @@ def _check_texture(value: str, bad) -> None:
         return
     if not value.lower().endswith(".png"):
         raise bad()
-    if not Path(value).expanduser().is_file():
-        raise bad("file not found")
+    problem = texture_file_problem(value)
+    if problem:
+        raise bad(problem)
 
 
 def integrator_for(behavior: Behavior) -> str:
@@ -355,6 +378,17 @@ def validate(scene: Scene) -> None:
         if (o.type == "mesh") != bool(o.path):
             raise SceneError(f"objects[{i}]: " + ("a mesh needs `path`, its surface file"
                              if o.path == "" else f"`path` is for meshes, not a {o.type}"))
+    c, s = scene.cloth, scene.scene
+    holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and
+                                                              c.pin_fraction > 0) or b.wave)
+    lowest_held = c.height - (b.wave_amplitude if b.wave else 0.0)  # the wave's trough
+    if s.floor and holds_particles and lowest_held < s.floor_height + s.thickness:
+        # Held particles cannot be pushed out of the floor: the contact could never hold.
+        raise SceneError(f"held particles (cloth.pinned = \"{c.pinned}\""
+                         f"{', behavior.wave' if b.wave else ''}) reach down to "
+                         f"{lowest_held:g} m, inside the floor (scene.floor_height = "
+                         f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m); raise "
+                         "cloth.height or lower the floor")
     n = scene.cloth.resolution
     if b.self_collision == "naive" and n > 128:
         raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "
@@ -421,7 +455,8 @@ def _toml_value(v: Any) -> str:
 
 
 def dumps(scene: Scene) -> str:
-    lines = [f"# cloth-tui scene: {scene.name}"]
+    # A comment cannot hold control characters (a newline in a file's name would end it).
+    lines = [f"# cloth-tui scene: {escape_controls(scene.name)}"]
     for section, values in to_dict(scene).items():
         if section == "objects":
             for obj in values:
@@ -432,11 +467,18 @@ def dumps(scene: Scene) -> str:
 
 
 def loads(text: str, name: str = "scene") -> Scene:
+    return from_dict(_parse_toml(text, name), name)
+
+
+def _parse_toml(text: str, where: str) -> dict:
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise SceneError(f"{name}: TOML syntax error: {e}") from None
-    return from_dict(data, name)
+        raise SceneError(f"{where}: TOML syntax error: {e}") from None
+    except RecursionError:  # thousands of nested arrays or inline tables
+        raise SceneError(f"{where}: arrays or tables nested too deeply") from None
+    except ValueError:  # an integer past Python's 4300-digit conversion limit
+        raise SceneError(f"{where}: an integer with too many digits") from None
 
 
 def load(ref: str | os.PathLike) -> Scene:
@@ -444,7 +486,11 @@ def load(ref: str | os.PathLike) -> Scene:
     path = Path(ref)
     if not path.suffix and str(ref) in builtin_scenes():
         path = builtin_scenes()[str(ref)]
-    if not path.is_file():
+    try:
+        is_file = path.is_file()
+    except OSError as e:  # a name longer than the file system allows
+        raise SceneError(f"scene {short_repr(str(ref))}: {e.strerror}") from None
+    if not is_file:
         names = ", ".join(builtin_scenes())
         raise SceneError(f"scene {str(ref)!r} not found: not a file, nor a built-in scene "
                          f"({names})")
@@ -488,6 +534,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw
+    except RecursionError:
+        raise SceneError(f"--set {dotted}: arrays or tables nested too deeply") from None
+    except ValueError:  # an integer past Python's 4300-digit conversion limit
+        raise SceneError(f"--set {dotted}: an integer with too many digits") from None
     return dotted, value
 
 

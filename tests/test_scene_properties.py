@@ -8,12 +8,29 @@ from hypothesis import strategies as st
 
 from cloth_tui import scene as sc
 
+
+
+def nested(depth: int) -> list:
+    value: list = []
+    for _ in range(depth):
+        value = [value]
+    return value
+
+
 values = st.one_of(
     st.none(), st.booleans(), st.integers(min_value=-2**70, max_value=2**70),
     st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=20),
     st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=4),
     st.lists(st.integers(-3, 3), min_size=3, max_size=3),
     st.sampled_from(["none", "corners", "hash", "sphere", "#ff0000", "maze", "rk4", "springs"]),
+    # the corners issue 19 found: integers of hundreds of digits, deep nesting, tiny non-zero
+    # vectors and subnormals, control characters
+    st.builds(lambda k, sign: sign * 10 ** k, st.integers(300, 5000), st.sampled_from([1, -1])),
+    st.builds(lambda depth: nested(depth), st.integers(500, 3000)),
+    st.lists(st.sampled_from([0.0, 5e-324, -5e-324, 1e-200, 1e-7, 2.2e-308]), min_size=3,
+             max_size=3),
+    st.floats(min_value=0, max_value=1e-300),
+    st.text(st.sampled_from("\x1b\n\r\x07\x9b\u202e[];=a"), max_size=12),
 )
 keys = st.sampled_from(sc.all_keys() + ["cloth.bogus", "nope.size", "objects", "cloth"])
 
@@ -23,7 +40,7 @@ def check(fn):
         result = fn()
     except sc.SceneError as e:
         msg = str(e)
-        assert msg and "\n" not in msg
+        assert msg and msg.isprintable()  # one line, no control characters
         return None
     assert isinstance(result, sc.Scene)
     sc.validate(result)

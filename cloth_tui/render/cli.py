@@ -13,6 +13,7 @@ import sys
 import threading
 from pathlib import Path
 
+from ..safe_text import escape_controls
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, save_png
@@ -84,11 +85,24 @@ def default_frames(kind: str, scene) -> int:
     return VIDEO_FRAMES
 
 
+def _check_textures(scene) -> None:
+    """Decode the scene's textures once up front: a file that passed the scene's header check
+    but cannot be decoded (truncated, damaged) is bad input, reported before any work."""
+    from .textures import TextureError, load_texture_image
+
+    for name in (scene.appearance.cloth_texture, scene.appearance.ground_texture):
+        try:
+            load_texture_image(name)
+        except TextureError as e:
+            raise UsageError(str(e)) from None
+
+
 def run_render(args) -> int:
     out = Path(args.output)
     check_output_path(out, OUTPUT_SUFFIXES)
     size = parse_size(args.size)
     scene = apply_overrides(load(args.scene), args.overrides)
+    _check_textures(scene)
     kind = out.suffix.lower()
     frames = args.frames or default_frames(kind, scene)
     fps = getattr(args, "fps", 30) or 30
@@ -127,14 +141,14 @@ def run_render(args) -> int:
         progress.end()
         if video is not None:
             video.abort()
-        print(f"cloth-tui: error: {e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
         return 1
     finally:
         renderer.close()
     if interrupt.signum is not None:
         what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
         name = signal.Signals(interrupt.signum).name
-        print(f"cloth-tui: {name}: stopped after {done} of {frames} frames; {what}",
-              file=sys.stderr)
+        print(escape_controls(f"cloth-tui: {name}: stopped after {done} of {frames} frames; "
+                              f"{what}"), file=sys.stderr)
         return EXIT_BY_SIGNAL[interrupt.signum]
     return 0

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..resources import textures_dir
+from ..png_header import MAX_TEXTURE_SIDE, PngHeaderError, read_png_header
 
 
 def maze_image(cells: int = 16, cell_px: int = 8, seed: int = 426) -> np.ndarray:
@@ -83,9 +84,16 @@ def write_builtin(folder: Path | None = None) -> list[Path]:
     return out
 
 
+class TextureError(ValueError):
+    """A texture file that cannot be used. One-line message naming the file."""
+
+
 def load_texture_image(name: str) -> np.ndarray | None:
     """RGB uint8 image for a texture setting: None for 'none', a built-in by name (made in
-    memory if its PNG is missing), or a PNG path. Raises OSError/ValueError on a bad file."""
+    memory if its PNG is missing), or a PNG path. Any PNG colour type and bit depth is
+    converted to RGB (alpha dropped); an animated PNG gives its first frame; a side above
+    MAX_TEXTURE_SIDE is downscaled. Raises TextureError for a file that is not a readable
+    PNG or declares more than png_header.MAX_TEXTURE_PIXELS (checked before decoding)."""
     if name in ("", "none"):
         return None
     if name in GENERATORS:
@@ -93,15 +101,39 @@ def load_texture_image(name: str) -> np.ndarray | None:
         if not path.is_file():
             return GENERATORS[name]()
     else:
-        path = Path(name).expanduser()
-    import imageio.v3 as iio
+        try:
+            path = Path(name).expanduser()
+        except RuntimeError:  # `~nosuchuser/…`
+            raise TextureError(f"texture {name}: no such user's home folder") from None
+    try:
+        read_png_header(path)
+    except PngHeaderError as e:
+        raise TextureError(f"texture {path}: {e}") from None
+    except OSError as e:
+        raise TextureError(f"texture {path}: cannot read: {e.strerror}") from None
+    return _decode_rgb(path)
 
-    img = np.asarray(iio.imread(path))
-    if img.ndim == 2:
-        img = np.repeat(img[..., None], 3, axis=2)
-    if img.dtype != np.uint8:  # 16-bit PNGs
-        img = (img.astype(np.float64) / np.iinfo(img.dtype).max * 255).astype(np.uint8)
-    return np.ascontiguousarray(img[..., :3])
+
+def _decode_rgb(path: Path) -> np.ndarray:
+    from PIL import Image
+
+    try:
+        with Image.open(path, formats=["PNG"]) as im:
+            im.seek(0)  # an animated PNG: its first frame
+            im.load()
+            if im.mode.startswith("I"):  # 16- or 32-bit grey: scale to 8 bits ourselves
+                grey = np.asarray(im).astype(np.float64)
+                grey = np.clip(grey * (255.0 / 65535.0), 0, 255).astype(np.uint8)
+                rgb = Image.fromarray(grey).convert("RGB")
+            else:
+                rgb = im.convert("RGB")
+        if max(rgb.size) > MAX_TEXTURE_SIDE:
+            rgb.thumbnail((MAX_TEXTURE_SIDE, MAX_TEXTURE_SIDE), Image.Resampling.BOX)
+        return np.ascontiguousarray(np.asarray(rgb, dtype=np.uint8))
+    except Exception as e:  # Pillow reports damaged data as OSError, SyntaxError,
+        # ValueError, EOFError or zlib.error, depending on where the damage is
+        detail = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise TextureError(f"texture {path}: cannot decode: {detail}") from None
 
 
 if __name__ == "__main__":

@@ -28,9 +28,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 from .protocols import Collider, ObjectPose
 
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
@@ -44,7 +43,7 @@ KINETIC_SHARE = 0.8   # μk / μs: sliding friction a little below sticking (typ
 # Each shape has a distance function (signed distance d of a point q given relative to the
 # shape's centre, and the outward unit normal there), written once: the contact kernel and
 # the penetration measure both call it through _shape_distance.
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _sphere_distance(qx, qy, qz, r):
     dist = math.sqrt(qx * qx + qy * qy + qz * qz)
     if dist < AT_CENTRE:  # at the centre: any direction is nearest; choose up
@@ -52,7 +51,7 @@ def _sphere_distance(qx, qy, qz, r):
     return dist - r, qx / dist, qy / dist, qz / dist
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _box_distance(qx, qy, qz, hx, hy, hz):
     """Axis-aligned box of half sides h."""
     ox = abs(qx) - hx
@@ -74,7 +73,7 @@ def _box_distance(qx, qy, qz, hx, hy, hz):
     return oz, 0.0, 0.0, sz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
     """Points within r of the segment ±half·a (a unit) through the centre."""
     t = min(max(qx * ax + qy * ay + qz * az, -half), half)
@@ -89,7 +88,7 @@ def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
     return dist - r, ex / dist, ey / dist, ez / dist
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _plane_distance(qx, qy, qz, nx, ny, nz):
     d = qx * nx + qy * ny + qz * nz
     return d, nx, ny, nz
@@ -99,7 +98,7 @@ SPHERE, BOX, CAPSULE, PLANE = 0, 1, 2, 3
 SHAPES = {"sphere": SPHERE, "box": BOX, "capsule": CAPSULE, "plane": PLANE}
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _shape_distance(shape, qx, qy, qz, p, s):
     """Signed distance and outward normal of `shape` with parameters p (p[0:3] the centre, then
     sphere: r; box: half sides; capsule: axis, half length, r; plane: normal), for a point q
@@ -113,7 +112,7 @@ def _shape_distance(shape, qx, qy, qz, p, s):
     return _plane_distance(qx, qy, qz, s * p[3], s * p[4], s * p[5])
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
     """Contact projection for one object: a particle inside the skin goes out along the
     normal to the skin's surface; depth[i] += how far, normal[i] = n. side[i] = ±1 is the
@@ -137,7 +136,7 @@ def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
         normal[i, 2] = nz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_coulomb_friction(x, x_prev, depth, normal, dx, dy, dz, mu_static, mu_kinetic):
     """Static and kinetic friction on each contact's motion relative to the object (see the
     module's docstring); (dx, dy, dz) is the object's displacement this substep. Clears
@@ -169,7 +168,7 @@ def apply_coulomb_friction(x, x_prev, depth, normal, dx, dy, dz, mu_static, mu_k
         x[i, 2] -= removed * tz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def signed_distances(x, side, shape, p, out):
     """out[i] = signed distance of point i from the true surface (negative inside), m: the
     same distance function the contact kernel uses."""

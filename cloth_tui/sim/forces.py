@@ -17,9 +17,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 
 AIR_DENSITY = 1.2            # kg/m³, air at sea level and 20 °C
 DRAG_COEFFICIENT = 1.2       # flat plate facing the flow (pressure drag; Hoerner ≈ 1.17–1.28)
@@ -35,7 +34,7 @@ DEGENERATE_AREA = 1e-14      # m², twice a triangle's area below which it has n
 
 
 # -- kernels --------------------------------------------------------------------------------
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def add_uniform_acceleration(accel, inv_mass, ax, ay, az):
     for i in range(accel.shape[0]):
         if inv_mass[i] != 0.0:
@@ -44,7 +43,7 @@ def add_uniform_acceleration(accel, inv_mass, ax, ay, az):
             accel[i, 2] += az
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_wind(x, v, accel, inv_mass, triangles, wx, wy, wz, k):
     """Pressure drag on each triangle from the air velocity relative to it:
         F = k · A · (n·v_rel)·|n·v_rel| · n,   k = ½·ρ·C,   v_rel = w − (v0+v1+v2)/3
@@ -82,7 +81,7 @@ def apply_wind(x, v, accel, inv_mass, triangles, wx, wy, wz, k):
             accel[p, 2] += w * nz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_black_hole(x, accel, inv_mass, cx, cy, cz, s, eps2):
     """Softened attractor (Plummer): a = s·L²·(c − x)/(|c − x|² + ε²)^{3/2}.
     Far away it is s·(L/r)² toward c; at the centre it is 0, never infinite."""
@@ -99,7 +98,7 @@ def apply_black_hole(x, accel, inv_mass, cx, cy, cz, s, eps2):
         accel[i, 2] += g * rz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_vortex(x, accel, inv_mass, cx, cz, s, eps2):
     """Swirl about the vertical axis through (cx, cz), turning +x toward +z (spin along −y):
     a = s·(−dz, 0, dx)/√(dx² + dz² + ε²); magnitude s far from the axis, 0 on it."""
@@ -113,7 +112,7 @@ def apply_vortex(x, accel, inv_mass, cx, cz, s, eps2):
         accel[i, 2] += g * dx
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_tractor_beam(x, accel, inv_mass, bx, bz, s, inv_r2):
     """Vertical beam through (bx, bz) lifting what it touches:
     a_y = s·exp(−d²/R²), d = horizontal distance to the beam's axis."""

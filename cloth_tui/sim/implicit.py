@@ -12,16 +12,15 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 
 DEGENERATE_LENGTH = 1e-12  # m: a spring this short has no direction and exerts no force
 CG_TOLERANCE = 1e-6        # relative residual ‖r‖/‖b‖ at which conjugate gradients stops
 CG_MAX_ITERATIONS = 400    # cap per substep; a stiff, large sheet may stop here (still stable)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def _spring_jacobian(x, edges, rest, dirs, tension):
     """Per spring: unit direction n and the clamped transverse factor max(0, 1 − L0/L)."""
     for e in range(edges.shape[0]):
@@ -43,7 +42,7 @@ def _spring_jacobian(x, edges, rest, dirs, tension):
         tension[e] = max(0.0, 1.0 - rest[e] / L)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _spring_block_product(p, a, b, nx, ny, nz, s, ck, cd):
     """One spring's block of the system times (p_a − p_b):
     (ck·[n nᵀ + s (I − n nᵀ)] + cd·n nᵀ)(p_a − p_b), the stiffness part with the transverse
@@ -56,7 +55,7 @@ def _spring_block_product(p, a, b, nx, ny, nz, s, ck, cd):
     return ck * s * ux + axial * nx, ck * s * uy + axial * ny, ck * s * uz + axial * nz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
     """y = A p with A = diag_mass − ck·K̂ − cd·D̂ on the free particles, identity on pinned.
     K̂ per spring is [n nᵀ + s (I − n nᵀ)] coupling a and b (ck = h²k), D̂ = n nᵀ (cd = h·kd)."""
@@ -84,7 +83,7 @@ def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
             y[b, 2] -= wz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def solve_implicit_euler(x, v, accel, mass, free, edges, rest, k, kd, drag, h,
                          dirs, tension, dv, r, z, p, q, diag, tol, max_iter):
     """Linearised backward Euler: solve (M − h²K − hD) Δv = h (f + h K v) for Δv by

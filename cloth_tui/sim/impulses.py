@@ -13,15 +13,14 @@ rebuild or a recovered frame.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 
 RAIN_RADIUS = 1.5  # grid spacings: e-folding distance of the falloff
 RAIN_REACH = 3     # grid spacings: farthest neighbour a drop moves (w(3) ≈ 2 %)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_raindrop(x, v, inv_mass, n, particle, depth, inv_dt, inv_r2, reach):
     """Displace `particle` down by `depth` and its neighbours less, with matching velocity."""
     i0 = particle // n

@@ -21,14 +21,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from ..scene import Scene
+from .jit import kernel
 from .model import ClothModel
 from .state import ClothState
 
 
-@njit(nogil=True, cache=True)
+@kernel(fastmath=False)
 def max_stretch(x, edges, rest) -> float:
     """max |L/L0 − 1| over the constraints; NaN if any length is NaN. One pass, no temporary
     arrays: cheap enough to run after every frame for the substep controller."""
@@ -47,7 +47,7 @@ def max_stretch(x, edges, rest) -> float:
     return worst
 
 
-@njit(nogil=True, cache=True)
+@kernel(fastmath=False)
 def spring_energy(x, edges, rest, k) -> float:
     """Σ ½ k (L − L0)² over the constraints, J."""
     total = 0.0
@@ -62,7 +62,7 @@ def spring_energy(x, edges, rest, k) -> float:
     return total
 
 
-@njit(nogil=True, cache=True)
+@kernel(fastmath=False)
 def xpbd_residual(x, edges, rest, lambdas, alpha_tilde) -> float:
     """max |C + α̃λ| over the constraints, m (0 when the compliant solve converged)."""
     worst = 0.0

@@ -18,12 +18,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from .. import meshes
 from ..meshes import MeshField
 from .colliders import ShapeCollider, orbit_offset
-from .jit import FASTMATH
+from .jit import kernel
 from .protocols import ObjectPose
 
 MESH = 4         # shape code, beside colliders.SHAPES (the mesh samples a grid instead)
@@ -31,7 +30,7 @@ OUTSIDE = 1e9    # m: the distance reported beyond the grid, where nothing touch
 FLAT = 1e-12     # |∇d| below this has no direction of its own; choose up
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _mesh_distance(qx, qy, qz, origin, inv_cell, dist, grad):
     """Trilinear distance and normalised gradient of the grid at q (object frame)."""
     gx = (qx - origin[0]) * inv_cell
@@ -62,7 +61,7 @@ def _mesh_distance(qx, qy, qz, origin, inv_cell, dist, grad):
     return d, ux / length, uy / length, uz / length
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def collide_mesh(x, inv_mass, center, origin, inv_cell, dist, grad, thickness, depth,
                  normal):
     """Contact projection against the mesh centred at `center` (see colliders.collide_shape)."""
@@ -83,7 +82,7 @@ def collide_mesh(x, inv_mass, center, origin, inv_cell, dist, grad, thickness, d
         normal[i, 2] = nz
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def mesh_signed_distances(x, center, origin, inv_cell, dist, grad, out):
     """out[i] = the grid's distance of point i (the one the contact kernel uses), m."""
     for i in range(x.shape[0]):

@@ -19,9 +19,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 
 COLLISION_FRACTION = 0.8  # D / spacing
 FLOAT32_MARGIN = 1e-6     # relative: above float32 rounding (2⁻²⁴ ≈ 6e-8) of |coordinates|
@@ -29,7 +28,7 @@ SCREEN_SLACK = 1e-12      # m: absolute part of the float32 screen's margin
 COINCIDENT = 1e-12        # m: a pair this close has no direction to be pushed apart along
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _governed(a, b, n):
     """Whether particles a, b are a constraint-stencil pair of the n×n grid."""
     di = abs(a // n - b // n)
@@ -37,7 +36,7 @@ def _governed(a, b, n):
     return (di <= 1 and dj <= 1) or (di == 0 and dj == 2) or (dj == 0 and di == 2)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def find_pairs_naive(x, n, dist, pairs):
     """All non-stencil pairs (i < j) closer than `dist`, written to `pairs`. Returns how many
     there are; if that exceeds len(pairs) only the first len(pairs) were written."""
@@ -57,7 +56,7 @@ def find_pairs_naive(x, n, dist, pairs):
     return count
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _bucket(ix, iy, iz, mask, stride_z, stride_y):
     """Bucket of a cell: a grid folded into the table, (ix + Sz·iz + Sy·iy) mod T with the
     strides ≈ √T. Cells next to each other land in nearby buckets, so a sweep over the sheet
@@ -66,14 +65,14 @@ def _bucket(ix, iy, iz, mask, stride_z, stride_y):
     return (ix + stride_z * iz + stride_y * iy) & mask
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _cell_key(ix, iy, iz):
     """The cell's coordinates modulo 1024, packed in an int32. Two of a particle's 8 query
     cells never agree modulo 1024, so this tells a bucket's cells apart where it matters."""
     return ((ix & 1023) << 20) | ((iy & 1023) << 10) | (iz & 1023)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def build_hash(x, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles, sorted_key,
                sorted_x):
     """Counting sort of particles into buckets: bucket b holds particles
@@ -107,7 +106,7 @@ def build_hash(x, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles
     return big
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def find_pairs_hash(x, n, dist, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles,
                     sorted_key, sorted_x, pairs):
     """The same pairs as find_pairs_naive (order aside), in O(N): build the hash (cell size
@@ -163,7 +162,7 @@ def find_pairs_hash(x, n, dist, inv_cell, mask, stride_z, stride_y, cell_start, 
     return count
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def resolve_pairs(x, inv_mass, pairs, count, dist):
     """Push each listed pair apart to `dist`, mass-weighted, if still closer."""
     for k in range(count):

@@ -16,15 +16,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from .jit import FASTMATH
+from .jit import kernel
 from .protocols import Effect, ForceEffect
 from .stages import damping_factor
 from .xpbd import ProjectConstraints
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def integrate_verlet(x, x_prev, v, accel, inv_mass, h, keep, max_speed):
     """Position Verlet with damping. The step's displacement, velocity and acceleration terms
     together, is clamped to max_speed·h: no particle outruns the colliders' thickness or
@@ -57,7 +56,7 @@ def integrate_verlet(x, x_prev, v, accel, inv_mass, h, keep, max_speed):
         accel[i, 2] = 0.0
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def update_velocities(x, x_prev, v, inv_h):
     for i in range(x.shape[0]):
         v[i, 0] = (x[i, 0] - x_prev[i, 0]) * inv_h

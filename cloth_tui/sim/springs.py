@@ -44,11 +44,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from ..scene import ORIGINAL_TIMESTEP, integrator_for
 from .implicit import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
-from .jit import FASTMATH
+from .jit import kernel
 from .protocols import Effect, ForceEffect
 
 ORDERS = {"explicit_euler": 1, "symplectic_euler": 1, "verlet": 2, "midpoint": 2, "rk4": 4,
@@ -62,7 +61,7 @@ def drag_rate(damping: float) -> float:
 
 # --- kernels ----------------------------------------------------------------------------------
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
     """out += (spring forces)/m − drag·v for every free particle."""
     for e in range(edges.shape[0]):
@@ -97,7 +96,7 @@ def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
                 out[i, 2] -= drag * v[i, 2]
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def zero_rows(a, rows):
     for k in range(rows.shape[0]):
         i = rows[k]
@@ -106,7 +105,7 @@ def zero_rows(a, rows):
         a[i, 2] = 0.0
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def restore_rows(a, b, rows):
     for k in range(rows.shape[0]):
         i = rows[k]
@@ -115,7 +114,7 @@ def restore_rows(a, b, rows):
         a[i, 2] = b[i, 2]
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
     """After contacts and pins: a particle a contact (or pin) moved takes the PBD velocity
     (x − x_prev)/h; the others keep the integrator's. Speeds are clamped to max_speed."""

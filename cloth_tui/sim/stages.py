@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
 
 from ..scene import ORIGINAL_TIMESTEP
-from .jit import FASTMATH
+from .jit import kernel
 
 
 def damping_factor(damping: float, h: float) -> float:
@@ -16,7 +15,7 @@ def damping_factor(damping: float, h: float) -> float:
     return (1.0 - damping) ** (h / ORIGINAL_TIMESTEP)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def apply_pins(x, pinned, anchors):
     for k in range(pinned.shape[0]):
         i = pinned[k]
@@ -25,7 +24,7 @@ def apply_pins(x, pinned, anchors):
         x[i, 2] = anchors[k, 2]
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def enforce_tethers(x, pinned, anchors, tether_pin, tether_length):
     """Long-range attachments (Kim, Chentanez & Müller 2012): a particle farther from its
     nearest pin than on the flat sheet is pulled back onto that sphere. Each tether moves one

@@ -19,16 +19,16 @@ import math
 import time
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
-from .jit import FASTMATH
+from .jit import kernel
 
 # Below this many constraints per colour, thread start-up costs more than it saves.
 PARALLEL_MIN_PER_COLOR = 4096
 COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, inline="always")
+@kernel(inline="always")
 def _project_one(x, inv_mass, a, b, rest, lam, alpha_t):
     """Projects one constraint; returns its Δλ."""
     wa = inv_mass[a]
@@ -62,7 +62,7 @@ def _project_one(x, inv_mass, a, b, rest, lam, alpha_t):
     return s * d
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH)
+@kernel()
 def project_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, iterations):
     """`iterations` passes of coloured Gauss-Seidel (edges are sorted by colour), serial.
     λ is reset here: it accumulates over the passes of one substep only. With α = 0 (PBD)
@@ -79,7 +79,7 @@ def project_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, i
                                        lam[e], alpha_t)
 
 
-@njit(nogil=True, cache=True, fastmath=FASTMATH, parallel=True)
+@kernel(parallel=True)
 def project_constraints_parallel(x, inv_mass, edges, rest, color_offsets, lam, alpha_t,
                                  iterations):
     """Same projection; the constraints of one colour share no particle, so each colour is

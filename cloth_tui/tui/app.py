@@ -8,7 +8,6 @@ queues stale frames, and it never waits on either thread.
 
 from __future__ import annotations
 
-import gc
 import os
 import sys
 import time
@@ -20,15 +19,20 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
+from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
 from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
 from .commands import SceneCommands
+from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panels import Controls, SettingField
 from .preview import Preview
 from .status import Readout, StatusBar
+
+FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
+
 
 def default_renderer_factory(**kwargs):
     from ..render.service import RenderService
@@ -44,13 +48,14 @@ class ClothApp(App):
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
-                 start_paused: bool = False, tame_gc: bool = False) -> None:
+                 start_paused: bool = False, freeze_gc: bool = False) -> None:
         super().__init__()
+        install_acyclic_strip_divide()  # else every redrawn line is cyclic garbage
         self.scene = scene
         self.captures_dir = Path(captures_dir)
         self.renderer_factory = renderer_factory or default_renderer_factory
         self.start_paused = start_paused
-        self.tame_gc = tame_gc
+        self._freeze_gc = freeze_gc  # after the first frame: start-up done
         self._halt_told: str | None = None  # the runner's halt reason already notified
         self.readout = Readout()
         self.sim: SimulationThread | None = None
@@ -67,6 +72,13 @@ class ClothApp(App):
         self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
+
+    def notify(self, message: str, *, title: str = "", severity: str = "information",
+               timeout: float | None = None, markup: bool = False) -> None:
+        """Every notice shows its text literally: file names, keys and values in it come from
+        the user, so control characters are escaped and brackets are not read as markup."""
+        super().notify(escape_controls(message), title=escape_controls(title),
+                       severity=severity, timeout=timeout, markup=False)
 
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
@@ -95,8 +107,7 @@ class ClothApp(App):
             self._show_no_preview(f"{type(e).__name__}: {e}")
         self._start_sim(paused=self.start_paused)
         self.set_interval(0.2, self._refresh_status)
-        if self.tame_gc:
-            self.call_after_refresh(_tame_garbage_collector)
+        self.set_timer(FREEZE_GC_AFTER_S, self._freeze_start_up)  # if no frame comes
 
     def _start_sim(self, paused: bool) -> None:
         if self.sim is not None:
@@ -150,6 +161,7 @@ class ClothApp(App):
         if self._debug is not None:
             self._debug.write(f"{t0:.4f} frame {frame.frame} render_ms {frame.render_ms:.2f} "
                               f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
+        self._freeze_start_up()
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
 
@@ -411,18 +423,14 @@ class ClothApp(App):
             self._debug.write(f"{time.perf_counter():.4f} shutdown "
                               f"{1e3 * (time.perf_counter() - t0):.0f} ms\n")
 
+    def _freeze_start_up(self) -> None:
+        """Once, at the first frame shown (start-up is over): see memory.py."""
+        if self._freeze_gc:
+            self._freeze_gc = False
+            freeze_start_up_objects()
+
     def on_unmount(self) -> None:
         self.shutdown()
-
-
-def _tame_garbage_collector() -> None:
-    """A full collection scans every object (Textual's ~300 widgets and their styles) while
-    holding the GIL: measured 100–190 ms, about once a second, during which the simulation
-    thread cannot even wake up, so it fell to 52 frames/s. Freezing what the start-up built
-    and making full collections rare keeps it at 60."""
-    gc.collect()
-    gc.freeze()
-    gc.set_threshold(700, 10, 10_000)
 
 
 def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
@@ -434,10 +442,10 @@ def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
         if not os.access(captures_dir, os.W_OK):
             raise PermissionError(13, "not writable")
     except OSError as e:
-        print(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
-              f"{e.strerror or e}", file=sys.stderr)
+        print(escape_controls(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
+                              f"{e.strerror or e}"), file=sys.stderr)
         return 2
-    kwargs.setdefault("tame_gc", True)  # process-wide, so only for the real app, not tests
+    kwargs.setdefault("freeze_gc", True)  # process-wide, so only for the real app, not tests
     app = ClothApp(scene, captures_dir, **kwargs)
     app.run()
     if app.crash is not None:

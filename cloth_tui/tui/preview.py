@@ -9,9 +9,11 @@ Segment per run of equal cells, with Rich styles cached by packed colour pair.
 from __future__ import annotations
 
 import textwrap
+from typing import Any, Callable
 
 import numpy as np
-from rich.color import Color
+from rich.color import Color, ColorSystem
+from rich.console import COLOR_SYSTEMS
 from rich.segment import Segment
 from rich.style import Style
 from textual import events
@@ -26,23 +28,64 @@ CROSSHAIR = "╋"
 _QUANT = 0xFC  # drop the two low bits of each channel: more shared styles, longer runs
 
 
-class StyleCache:
-    """Rich styles for packed (top, bottom) colour pairs; cleared when it grows too big."""
+class RecentCache:
+    """A memo of `make(key)` bounded in two generations: entries go into the new one; when
+    it holds `limit` it becomes the old one (the previous old one is dropped) and entries
+    used again move back. What a frame uses stays; what the view no longer shows goes."""
 
-    def __init__(self, limit: int = 50_000):
-        self._styles: dict[int, Style] = {}
+    def __init__(self, make: Callable[[int], Any], limit: int):
+        self._make = make
         self._limit = limit
+        self._new: dict[int, Any] = {}
+        self._old: dict[int, Any] = {}
+
+    def __call__(self, key: int) -> Any:
+        value = self._new.get(key)
+        if value is None:
+            value = self._old.pop(key, None)
+            if value is None:
+                value = self._make(key)
+            if len(self._new) >= self._limit:
+                self._old, self._new = self._new, {}
+            self._new[key] = value
+        return value
+
+    def __len__(self) -> int:
+        return len(self._new) + len(self._old)
+
+
+def _rgb_color(rgb: int) -> Color:
+    return Color.from_rgb(rgb >> 16, (rgb >> 8) & 255, rgb & 255)
+
+
+class StyleCache:
+    """Rich styles for packed (top, bottom) colour pairs, sharing their colours. A frame of
+    the default scene uses ~450 pairs, but turning the camera keeps making new ones (100–250
+    a second), so the cache is bounded (at most 2·`limit` styles and colours, ≤ 7 MB)
+    rather than let grow: cleared only at 50,000 styles, with two colours each, it grew the
+    app by up to ~30 MB.
+
+    Given the terminal's `color_system`, each new style gets its terminal codes made once
+    (Rich keeps them on the style, and Textual draws a style with those when present);
+    otherwise Textual makes them through its class-wide cache of 16,384 styles
+    (`Strip.render_ansi`), which would then keep every pair the view ever showed alive."""
+
+    def __init__(self, limit: int = 4096, color_system: ColorSystem | None = None):
+        colors = RecentCache(_rgb_color, limit)
+
+        def style(key: int) -> Style:
+            s = Style(color=colors(key >> 24), bgcolor=colors(key & 0xFFFFFF))
+            if color_system is not None:
+                s.render(HALF, color_system=color_system)  # Rich keeps the codes on `s`
+            return s
+
+        self._styles = RecentCache(style, limit)
 
     def __call__(self, key: int) -> Style:
-        style = self._styles.get(key)
-        if style is None:
-            if len(self._styles) >= self._limit:
-                self._styles.clear()
-            top, bot = key >> 24, key & 0xFFFFFF
-            style = Style(color=Color.from_rgb(top >> 16, (top >> 8) & 255, top & 255),
-                          bgcolor=Color.from_rgb(bot >> 16, (bot >> 8) & 255, bot & 255))
-            self._styles[key] = style
-        return style
+        return self._styles(key)
+
+    def __len__(self) -> int:
+        return len(self._styles)
 
 
 def resample(image: np.ndarray, cols: int, rows: int) -> np.ndarray:
@@ -133,6 +176,11 @@ class Preview(Widget):
         """Text in place of a picture, e.g. why there will be none; wrapped to fit."""
         self._placeholder = text
         self.refresh()
+
+    def on_mount(self) -> None:
+        # Textual draws in the console's colour system (truecolor when it names none).
+        system = COLOR_SYSTEMS.get(self.app.console.color_system or "truecolor")
+        self._styles = StyleCache(color_system=system)
 
     # -- data in -------------------------------------------------------------------------
     def show_image(self, image: np.ndarray) -> None:

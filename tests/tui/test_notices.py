@@ -1,0 +1,53 @@
+"""The app's notices show user text literally: control characters in file names, keys and
+values are escaped, and brackets are not read as markup (issue 19)."""
+
+import unicodedata
+
+from textual.widgets import Input
+
+from cloth_tui.scene import Scene, load, save
+from cloth_tui.tui.panels import widget_id
+
+from .conftest import SIZE, make_app, notifications, run
+
+UNSAFE = {"Cc", "Cf", "Zl", "Zp", "Cs"}
+
+
+def shown_safely(text: str) -> bool:
+    return not any(unicodedata.category(c) in UNSAFE for c in text)
+
+
+def test_notices_escape_file_names_and_a_scene_named_with_a_newline_saves(tmp_path):
+    hostile = "caps\x1b]0;owned\x07\x1b[31m\nline"
+    scene_file = save(Scene().with_value("cloth.mass", 0.3), tmp_path / "my\nscene.toml")
+    scene = load(scene_file)
+    assert scene.name == "my\nscene"
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        app.captures_dir = tmp_path / hostile
+        async with app.run_test(size=SIZE) as pilot:
+            await pilot.press("s")
+            await pilot.pause()
+            saved = list((tmp_path / hostile).glob("scene-*.toml"))
+            assert len(saved) == 1 and load(saved[0]) == scene
+            told = [m for m in notifications(app) if "Scene saved" in m]
+            assert told and all(shown_safely(m) for m in told)
+            assert "\\x1b]0;owned\\x07" in told[0]
+    run(go())
+
+
+def test_a_refused_value_is_shown_literally_even_when_it_looks_like_markup(tmp_path):
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            field = app.query_one("#" + widget_id("appearance.cloth_color"), Input)
+            field.focus()
+            field.value = "[/bold]\x1b[2J[red]"
+            await pilot.press("enter")
+            await pilot.pause()
+            assert app.is_running
+            refused = [n for n in app._notifications if "cloth_color" in n.message]
+            assert refused and all(shown_safely(n.message) for n in refused)
+            assert all(not n.markup for n in refused)
+    run(go())

@@ -1,0 +1,273 @@
+"""Seeded scene fuzzer: N random scenes over every key of the schema, each simulated by
+`python -m cloth_tui simulate` in its own process with a timeout.
+
+    python tools/fuzz.py --count 300 --seed 1 --jobs 2 [--frames 120] [--keep DIR]
+    python tools/fuzz.py --seed 1 --only 17 --keep DIR     # regenerate one scene to debug
+
+Each run is classified:
+  ok            exit 0, finite, penetration ≤ thickness + 1 cm, not halted, stderr empty
+  refused       exit 2 with one line on stderr (the scene is bad input; that is fine)
+  exit_N        any other exit status (1 = a crash: a bug)
+  bad_message   exit 2 but the message is not one line
+  timeout       no result within --timeout seconds
+  non_finite    exit 0 but positions are not finite
+  penetration   deepest contact penetration beyond scene.thickness + 1 cm
+  halted        the guard gave up (divergence even at 16× the substeps)
+  stderr        exit 0 with output on stderr (warnings)
+A run can have several classes; the summary counts each. `--keep DIR` writes the TOML of
+every run that is not ok or refused, named by its index, to reproduce with `simulate`.
+
+Values are drawn from each key's declaration (range, choices, kind): the declared edges,
+the default, and log-uniform values between, plus an occasional value outside the range or
+of the wrong type (to exercise refusal). So that each run ends in seconds on a shared
+machine, particles × substeps × iterations per frame is kept under a budget by lowering
+iterations, then substeps, then resolution; every key still reaches its extremes alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, not installed)
+
+WORK_BUDGET = 1_000_000  # particles × substeps × iterations per frame
+PENETRATION_SLACK = 0.01  # m beyond scene.thickness
+WRONG = ["text", True, -1, 1e308, [1, 2], {"a": 1}, float("inf")]
+
+
+def _number(rng: random.Random, f: dataclasses.Field) -> float | int:
+    m = f.metadata
+    lo = -1e3 if m["lo"] is None else m["lo"]
+    hi = 1e3 if m["hi"] is None else m["hi"]
+    default = f.default
+    pick = rng.random()
+    if pick < 0.15:
+        v = lo
+    elif pick < 0.3:
+        v = hi
+    elif pick < 0.45:
+        v = default
+    elif lo < 0 < hi and rng.random() < 0.7:  # heights: mostly near the sheet and floor
+        v = rng.uniform(max(lo, -3.0), min(hi, 3.0))
+    elif lo > 0 or (lo == 0 and rng.random() < 0.7):  # log-uniform over positive ranges
+        lo_pos = max(lo, 1e-9, hi * 1e-12)
+        v = math.exp(rng.uniform(math.log(lo_pos), math.log(hi)))
+    else:
+        v = rng.uniform(lo, hi)
+    if f.type in ("int", int):
+        v = int(round(v))
+    elif m["lo_open"] and v == lo:
+        v = lo + abs(lo) * 1e-9 + 1e-12
+    if m["hi_open"] and v == hi:
+        v = hi - abs(hi) * 1e-9
+    return v
+
+
+def _vector(rng: random.Random, f: dataclasses.Field, name: str) -> list[float]:
+    scale = rng.choice([0.1, 0.5, 1.0, 1.0, 2.0, 10.0, 1e6]) if name != "size" else \
+        rng.choice([0.01, 0.2, 0.5, 1.0, 3.0])
+    v = [rng.uniform(-scale, scale) for _ in range(3)]
+    if name == "size":
+        v = [abs(x) for x in v]
+    if rng.random() < 0.1:  # an axis-aligned or nearly degenerate direction
+        v = [0.0, 0.0, 0.0]
+        v[rng.randrange(3)] = rng.choice([1.0, -1.0, 1e-5, sc.MIN_DIRECTION_NORM])
+    return v
+
+
+def random_value(rng: random.Random, f: dataclasses.Field):
+    m = f.metadata
+    if m["choices"]:
+        return rng.choice(m["choices"])
+    if m["kind"] == "color":
+        return "#%06x" % rng.randrange(1 << 24)
+    if m["kind"] == "texture":
+        return rng.choice(["none", "none", "maze", "grass"])
+    if m["kind"].startswith("vec3"):
+        return _vector(rng, f, f.name)
+    if f.type in ("bool", bool):
+        return rng.random() < 0.5
+    return _number(rng, f)
+
+
+def random_scene(seed: int, index: int) -> dict:
+    """Scene `index` of run `seed`: each key set with probability 1/2."""
+    rng = random.Random(seed * 1_000_003 + index)
+    doc: dict = {}
+    for section in sc.SECTIONS:
+        values = {f.name: random_value(rng, f)
+                  for f in dataclasses.fields(sc.SECTION_TYPES[section]) if rng.random() < 0.5}
+        if values:
+            doc[section] = values
+    if rng.random() < 0.4:
+        doc["objects"] = [{f.name: random_value(rng, f) for f in dataclasses.fields(sc.SceneObject)
+                           if rng.random() < 0.6} for _ in range(rng.randint(1, 3))]
+    if rng.random() < 0.1:  # one value of the wrong type or out of range: must be refused
+        section = rng.choice(sc.SECTIONS)
+        name = rng.choice([f.name for f in dataclasses.fields(sc.SECTION_TYPES[section])])
+        doc.setdefault(section, {})[name] = rng.choice(WRONG)
+    behavior = doc.get("behavior", {})
+    if behavior.get("solver", "pbd") != "springs" and rng.random() < 0.9:
+        behavior.pop("integrator", None)  # pbd/xpbd need verlet: keep most scenes runnable
+    _sheet_above_floor(rng, doc)
+    _within_budget(doc)
+    return {k: v for k, v in doc.items() if v}
+
+
+def _sheet_above_floor(rng: random.Random, doc: dict) -> None:
+    """Most of the time, swap a sheet height and floor height drawn the wrong way round:
+    pinned sheets starting inside the floor are refused, and half the scenes would be."""
+    cloth, section = doc.get("cloth", {}), doc.get("scene", {})
+    h, f = cloth.get("height", 0.25), section.get("floor_height", -0.5)
+    numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (h, f))
+    if numbers and h < f and rng.random() < 0.8:
+        doc.setdefault("cloth", {})["height"], doc.setdefault("scene", {})["floor_height"] = f, h
+
+
+def _within_budget(doc: dict) -> None:
+    cloth, behavior = doc.setdefault("cloth", {}), doc.setdefault("behavior", {})
+    get = {"resolution": cloth.get("resolution", 26), "substeps": behavior.get("substeps", 4),
+           "iterations": behavior.get("iterations", 4)}
+    if not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in get.values()):
+        return  # a wrong value: the scene will be refused anyway
+    n, s, it = get["resolution"], get["substeps"], get["iterations"]
+    if behavior.get("self_collision") == "naive":
+        n = min(n, 32)
+    while n * n * s * it > WORK_BUDGET:
+        if it > 4:
+            it = max(4, it // 2)
+        elif s > 4:
+            s = max(4, s // 2)
+        else:
+            n = max(2, int(n / 1.5))
+    if n != get["resolution"]:
+        cloth["resolution"] = n
+    if s != get["substeps"]:
+        behavior["substeps"] = s
+    if it != get["iterations"]:
+        behavior["iterations"] = it
+
+
+def to_toml(doc: dict) -> str:
+    def value(v) -> str:
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, float):
+            return {math.inf: "inf", -math.inf: "-inf"}.get(v, repr(v))
+        if isinstance(v, (int, float)):
+            return repr(v)
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, dict):
+            return "{" + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + "}"
+        raise TypeError(type(v))
+
+    lines = []
+    for section, values in doc.items():
+        if section == "objects":
+            for obj in values:
+                lines += ["[[objects]]"] + [f"{k} = {value(v)}" for k, v in obj.items()]
+        elif values:
+            lines += [f"[{section}]"] + [f"{k} = {value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def classify(code: int | None, out: str, err: str, doc: dict) -> tuple[list[str], dict]:
+    if code is None:
+        return ["timeout"], {}
+    if code == 2:
+        return (["refused"] if err.count("\n") == 1 and err.endswith("\n") else
+                ["bad_message"]), {}
+    if code != 0:
+        return [f"exit_{code}"], {}
+    try:
+        stats = json.loads(out)
+    except ValueError:
+        return ["bad_output"], {}
+    classes = []
+    if not stats["finite"]:
+        classes.append("non_finite")
+    thickness = doc.get("scene", {}).get("thickness", sc.SceneSection().thickness)
+    if stats["penetration"] > thickness + PENETRATION_SLACK:
+        classes.append("penetration")
+    if stats.get("halted"):
+        classes.append("halted")
+    if err.strip():
+        classes.append("stderr")
+    return classes or ["ok"], stats
+
+
+def run_one(seed: int, index: int, frames: int, timeout: float, keep: Path | None) -> dict:
+    doc = random_scene(seed, index)
+    text = to_toml(doc)
+    with tempfile.TemporaryDirectory(prefix="cloth-fuzz-") as tmp:
+        path = Path(tmp) / f"fuzz-{seed}-{index}.toml"
+        path.write_text(text, encoding="utf-8")
+        env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+        t0 = time.monotonic()
+        try:
+            proc = subprocess.run([sys.executable, "-m", "cloth_tui", "simulate", str(path),
+                                   "--frames", str(frames), "--json"], capture_output=True,
+                                  text=True, timeout=timeout, env=env, cwd=tmp)
+            code, out, err = proc.returncode, proc.stdout, proc.stderr
+        except subprocess.TimeoutExpired:
+            code, out, err = None, "", ""
+        seconds = time.monotonic() - t0
+    classes, stats = classify(code, out, err, doc)
+    if keep is not None and not set(classes) <= {"ok", "refused"}:
+        keep.mkdir(parents=True, exist_ok=True)
+        (keep / f"fuzz-{seed}-{index}.toml").write_text(text, encoding="utf-8")
+    return {"index": index, "classes": classes, "exit": code, "seconds": round(seconds, 1),
+            "stderr": err.strip().splitlines()[-1][:300] if err.strip() else "",
+            "penetration": stats.get("penetration"), "halted": stats.get("halted"),
+            "recoveries": stats.get("recoveries")}
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--count", type=int, default=20, help="scenes to run")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--only", type=int, help="run only scene INDEX of this seed")
+    p.add_argument("--jobs", type=int, default=2, help="processes at once")
+    p.add_argument("--frames", type=int, default=120)
+    p.add_argument("--timeout", type=float, default=180.0, help="seconds per scene")
+    p.add_argument("--keep", type=Path, help="write the TOML of each failing scene here")
+    p.add_argument("--json", action="store_true", help="one JSON object per scene on stdout")
+    args = p.parse_args(argv)
+    indices = [args.only] if args.only is not None else list(range(args.count))
+    counts: dict[str, int] = {}
+    failures = []
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        results = pool.map(lambda i: run_one(args.seed, i, args.frames, args.timeout,
+                                             args.keep), indices)
+        for r in results:
+            for c in r["classes"]:
+                counts[c] = counts.get(c, 0) + 1
+            if not set(r["classes"]) <= {"ok", "refused"}:
+                failures.append(r)
+            print(json.dumps(r) if args.json else
+                  f"{r['index']:5d} {','.join(r['classes']):<24} {r['seconds']:6.1f}s "
+                  f"{r['stderr'][:100]}", flush=True)
+    print(f"seed {args.seed}, {len(indices)} scenes, {args.frames} frames: " +
+          ", ".join(f"{k} {v}" for k, v in sorted(counts.items())), file=sys.stderr)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
