@@ -64,7 +64,8 @@ PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
 SOLVERS = ("pbd", "xpbd", "springs")
 INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
                "implicit_euler")
-OBJECT_TYPES = ("sphere", "box", "plane", "capsule")
+SHAPE_TYPES = ("sphere", "box", "plane", "capsule")  # scene.object: the original's shapes
+OBJECT_TYPES = SHAPE_TYPES + ("mesh",)
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
 
 
@@ -117,6 +118,11 @@ class SceneObject:
     axis: list = vec3([1.0, 0.0, 0.0], "capsule axis direction", nonzero=True)
     length: float = key(0.5, "capsule: length of its axis segment (the cylinder part)", unit="m",
                         lo=0.0, hi=1e3)
+    path: str = key("", "mesh: STL, OBJ, PLY or VTK surface file, relative to the scene file")
+    scale: float = key(1.0, "mesh: factor on the file's coordinates", lo=0.0, lo_open=True,
+                       hi=1e3)
+    rotation: list = vec3([0.0, 0.0, 0.0], "mesh: rotation about x, then y, then z (about "
+                          "the file's origin, which `center` places)", unit="°")
     friction: float = key(-1.0, "Coulomb friction μ 0–1 (−1: use scene.friction)", lo=-1.0,
                           hi=1.0)
     motion: str = key("static", "static, or orbit (the original's slow circle)",
@@ -127,7 +133,7 @@ class SceneObject:
 class SceneSection:
     floor: bool = key(True, "collide with the floor")
     floor_height: float = key(-0.5, "height of the floor", unit="m", lo=-1e3, hi=1e3)
-    object: str = key("none", "the original's single object", choices=("none",) + OBJECT_TYPES)
+    object: str = key("none", "the original's single object", choices=("none",) + SHAPE_TYPES)
     friction: float = key(0.9, "Coulomb friction μ of objects and floor (static; kinetic 0.8 μ)",
                           lo=0.0, hi=1.0)
     moving: bool = key(False, "the object follows the original's slow orbit")
@@ -369,6 +375,9 @@ def validate(scene: Scene) -> None:
             raise SceneError(f"objects[{i}]: a capsule takes `axis` (direction) and `length` "
                              "(m), not `normal` and `size` (older files put the axis in normal "
                              "and the length in size[1]); move them to axis and length")
+        if (o.type == "mesh") != bool(o.path):
+            raise SceneError(f"objects[{i}]: " + ("a mesh needs `path`, its surface file"
+                             if o.path == "" else f"`path` is for meshes, not a {o.type}"))
     c, s = scene.cloth, scene.scene
     holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and
                                                               c.pin_fraction > 0) or b.wave)
@@ -492,7 +501,11 @@ def load(ref: str | os.PathLike) -> Scene:
         raise SceneError(f"{path}: not a UTF-8 text file") from None
     except OSError as e:
         raise SceneError(f"{path}: cannot read: {e.strerror}") from None
-    return loads(text, name=path.stem)
+    scene = loads(text, name=path.stem)
+    for o in scene.objects:  # a mesh's path is relative to the scene file
+        if o.path and not Path(o.path).expanduser().is_absolute():
+            o.path = str(path.parent.resolve() / o.path)
+    return scene
 
 
 def save(scene: Scene, path: str | os.PathLike) -> Path:

@@ -32,9 +32,9 @@ def wheel(tmp_path_factory) -> Path:
     return whl
 
 
-def test_wheel_carries_the_builtin_scenes_and_textures(wheel):
+def test_wheel_carries_the_builtin_scenes_textures_and_meshes(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
-    for folder, pattern in (("scenes", "*.toml"), ("textures", "*.png")):
+    for folder, pattern in (("scenes", "*.toml"), ("textures", "*.png"), ("meshes", "*.ply")):
         files = sorted((ROOT / "assets" / folder).glob(pattern))
         assert files
         missing = [f.name for f in files if f"cloth_tui/assets/{folder}/{f.name}" not in names]
@@ -53,12 +53,14 @@ def test_installed_wheel_finds_its_scenes_outside_the_checkout(wheel, tmp_path):
     zipfile.ZipFile(wheel).extractall(site)
     code = ("import cloth_tui, cloth_tui.resources as r, cloth_tui.scene as s; "
             "print(cloth_tui.__file__); print(r.assets_dir()); print(' '.join(s.builtin_scenes())); "
-            "print(s.load('default').cloth.resolution)")
+            "print(s.load('default').cloth.resolution); "
+            "import os; print(os.path.isfile(s.load('torus-drape').objects[0].path))")
     env = dict(os.environ, PYTHONPATH=str(site))
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        cwd=tmp_path, env=env, timeout=120)
     assert p.returncode == 0, p.stderr
-    module, assets, scenes, resolution = p.stdout.splitlines()
+    module, assets, scenes, resolution, mesh_found = p.stdout.splitlines()
     assert module.startswith(str(site)) and assets == str(site / "cloth_tui" / "assets")
     assert scenes.split() == sorted(f.stem for f in (ROOT / "assets" / "scenes").glob("*.toml"))
     assert int(resolution) > 1
+    assert mesh_found == "True"  # the built-in mesh scene's file, relative to the scene

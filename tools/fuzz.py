@@ -43,6 +43,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, not installed)
+from cloth_tui.resources import assets_dir  # noqa: E402
 
 WORK_BUDGET = 1_000_000  # particles × substeps × iterations per frame
 PENETRATION_SLACK = 0.01  # m beyond scene.thickness
@@ -115,7 +116,11 @@ def random_scene(seed: int, index: int) -> dict:
             doc[section] = values
     if rng.random() < 0.4:
         doc["objects"] = [{f.name: random_value(rng, f) for f in dataclasses.fields(sc.SceneObject)
-                           if rng.random() < 0.6} for _ in range(rng.randint(1, 3))]
+                           if rng.random() < 0.6 and f.name != "path"}
+                          for _ in range(rng.randint(1, 3))]
+        for obj in doc["objects"]:  # a mesh needs a file, and only a mesh takes one
+            if obj.get("type") == "mesh":
+                obj["path"] = str(assets_dir() / "meshes" / "torus.ply")
     if rng.random() < 0.1:  # one value of the wrong type or out of range: must be refused
         section = rng.choice(sc.SECTIONS)
         name = rng.choice([f.name for f in dataclasses.fields(sc.SECTION_TYPES[section])])

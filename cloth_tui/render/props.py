@@ -142,6 +142,8 @@ def _object_mesh(pv, pose):
     if pose.type == "capsule":
         return pv.Capsule(direction=tuple(pose.axis), radius=pose.radius,
                           cylinder_length=float(pose.length), resolution=30).triangulate()
+    if pose.type == "mesh" and pose.surface is not None:
+        return pv.PolyData.from_regular_faces(pose.surface.vertices, pose.surface.faces)
     if pose.type == "plane":
         return pv.Plane(direction=tuple(pose.normal), i_size=2 * PLANE_HALF,
                         j_size=2 * PLANE_HALF)
@@ -157,6 +159,15 @@ class Objects:
         self.actors: list = []
         self.shapes: list = []
 
+    def _add(self, pose):
+        mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
+        opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
+        actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
+                                      smooth_shading=pose.type != "box", specular=0.3,
+                                      reset_camera=False)
+        actor.prop.backface_culling = False
+        return actor
+
     def update(self, poses) -> None:
         poses = tuple(poses or ())
         while len(self.actors) > len(poses):
@@ -165,19 +176,16 @@ class Objects:
         for k, pose in enumerate(poses):
             shape = (pose.type, float(pose.radius), tuple(map(float, pose.size)),
                      tuple(map(float, pose.normal)), tuple(map(float, pose.axis)),
-                     float(pose.length))
+                     float(pose.length), pose.surface.key if pose.surface else "")
             if k == len(self.actors):
-                mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-                opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
-                actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
-                                              smooth_shading=pose.type != "box",
-                                              specular=0.3, reset_camera=False)
-                actor.prop.backface_culling = False
-                self.actors.append(actor)
+                self.actors.append(self._add(pose))
                 self.shapes.append(shape)
             elif shape != self.shapes[k]:
-                mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-                self.actors[k].mapper.dataset.copy_from(mesh)
+                # a new actor, not new points in the old one: with smooth shading the mapper
+                # draws a copy (with normals) that a copy_from into its dataset never reached
+                # (a sphere changed to a capsule stayed a sphere)
+                self.plotter.remove_actor(self.actors[k], render=False)
+                self.actors[k] = self._add(pose)
                 self.shapes[k] = shape
             centre = np.asarray(pose.center, dtype=np.float64)
             if np.all(np.isfinite(centre)):

@@ -349,7 +349,8 @@ def single_object(kind: str) -> dict:
 
 
 def build_colliders(scene, model) -> list[Collider]:
-    """Collider effects the scene enables: the floor, then scene.object, then [[objects]]."""
+    """Collider effects the scene enables: the floor, then scene.object, then [[objects]]
+    (meshes apart: mesh_collider.build_mesh_colliders)."""
     s = scene.scene
     out = []
     if s.floor:
@@ -358,6 +359,8 @@ def build_colliders(scene, model) -> list[Collider]:
         out.append(ObjectCollider(model, s.object, friction=s.friction, thickness=s.thickness,
                                   moving=s.moving, **single_object(s.object)))
     for o in scene.objects:
+        if o.type == "mesh":
+            continue
         out.append(ObjectCollider(model, o.type, o.center, radius=o.radius, size=o.size,
                                   normal=o.normal, axis=o.axis, length=o.length,
                                   thickness=s.thickness,

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..scene import Scene
-from . import colliders, forces, impulses, selfcollision, solvers, springs
+from . import colliders, forces, impulses, mesh_collider, selfcollision, solvers, springs
 from .model import ClothModel
 from .protocols import Collider, Effect, ForceEffect, Solver
 from .stages import ApplyPins, EnforceTethers
@@ -99,7 +99,8 @@ def build(scene: Scene, model: ClothModel, substeps: int | None = None) -> Step:
     if not scene.forces.integrate:
         return Step(model, [], n_sub, h)
     solver = make_solver(scene, model, h, forces.build_forces(scene, model))
-    collider_effects = colliders.build_colliders(scene, model)
+    collider_effects = (colliders.build_colliders(scene, model)
+                        + mesh_collider.build_mesh_colliders(scene, model))
     contact_effects = collider_effects + selfcollision.build_self_collision(scene, model)
     effects = assemble(solver, model, collider_effects, contact_effects)
     return Step(model, effects, n_sub, h, colliders=collider_effects,

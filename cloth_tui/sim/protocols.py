@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 if TYPE_CHECKING:
+    from ..meshes import MeshSurface
     from .state import ClothState
 
 
@@ -27,6 +28,7 @@ class ObjectPose:
     normal: tuple = (0.0, 1.0, 0.0)
     axis: tuple = (1.0, 0.0, 0.0)  # capsule
     length: float = 0.5            # capsule: length of its axis segment, m
+    surface: MeshSurface | None = None  # mesh: its triangles, in the frame centred on `center`
 
 
 class Effect(Protocol):

@@ -1,0 +1,13 @@
+"""`bench --breakdown` times each effect of a scene's step, mesh colliders included."""
+
+import pytest
+
+from cloth_tui.bench.breakdown import breakdown
+from cloth_tui.scene import load
+
+
+def test_the_breakdown_shows_what_the_mesh_collider_costs():
+    pytest.importorskip("pyvista")
+    result = breakdown(load("torus-drape"), frames=5, warmup=2)
+    times = {e["effect"]: e["ms_per_frame"] for e in result["effects"]}
+    assert "collide_mesh" in times and times["collide_mesh"] > 0.0

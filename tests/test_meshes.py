@@ -1,0 +1,106 @@
+"""Mesh files for `type = "mesh"` objects: bad ones exit 2 with one line naming the problem;
+paths are relative to the scene file."""
+
+import json
+
+import numpy as np
+import pytest
+
+pv = pytest.importorskip("pyvista")
+
+from cloth_tui import meshes  # noqa: E402
+from cloth_tui.cli import main  # noqa: E402
+from cloth_tui.scene import SceneError, SceneObject, loads  # noqa: E402
+
+
+def write_scene(folder, mesh_path: str):
+    path = folder / "scene.toml"
+    path.write_text(f'[[objects]]\ntype = "mesh"\npath = "{mesh_path}"\ncenter = [0.0, -0.3, '
+                    f'0.0]\n', encoding="utf-8")
+    return path
+
+
+def simulate(capfd, scene_path, *extra):
+    rc = main(["simulate", str(scene_path), "--frames", "2", "--json", *extra])
+    out, err = capfd.readouterr()
+    return rc, out, err
+
+
+@pytest.fixture(scope="module")
+def torus(tmp_path_factory):
+    path = tmp_path_factory.mktemp("m") / "torus.stl"
+    pv.ParametricTorus(ringradius=0.25, crosssectionradius=0.08).triangulate().save(path)
+    return path
+
+
+def make_bad(folder, kind):
+    if kind == "missing":
+        return folder / "missing.stl"
+    if kind == "garbage":
+        (folder / "garbage.stl").write_bytes(b"\x00\x01garbage" * 10)
+        return folder / "garbage.stl"
+    if kind == "empty":
+        (folder / "empty.obj").write_text("")
+        return folder / "empty.obj"
+    if kind == "broken_ply":
+        (folder / "b.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n")
+        return folder / "b.ply"
+    if kind == "not_a_mesh":
+        (folder / "notes.txt").write_text("hi")
+        return folder / "notes.txt"
+    if kind == "open":
+        pv.Plane().triangulate().save(folder / "open.stl")
+        return folder / "open.stl"
+    if kind == "points_only":
+        pv.PolyData(np.array([[0.0, 0, 0], [1, 0, 0]])).save(folder / "points.vtk")
+        return folder / "points.vtk"
+    raise AssertionError(kind)
+
+
+@pytest.mark.parametrize("kind, says", [
+    ("missing", "No such file"), ("garbage", "no triangles"), ("empty", "no triangles"),
+    ("broken_ply", "no triangles"), ("not_a_mesh", "not a mesh file"),
+    ("open", "not closed"), ("points_only", "no triangles")])
+def test_bad_mesh_files_exit_2_with_one_line(tmp_path, capfd, kind, says):
+    scene = write_scene(tmp_path, make_bad(tmp_path, kind).name)
+    rc, out, err = simulate(capfd, scene)
+    assert rc == 2 and out == ""
+    assert err.count("\n") == 1 and "objects[0].path" in err and says in err, err
+
+
+def test_huge_meshes_exit_2_with_one_line(tmp_path, capfd, torus, monkeypatch):
+    scene = write_scene(tmp_path, str(torus))
+    meshes._read_surface.cache_clear()  # the limit is checked when the file is read
+    monkeypatch.setattr(meshes, "MAX_TRIANGLES", 100)
+    rc, _, err = simulate(capfd, scene)
+    assert rc == 2 and err.count("\n") == 1 and "triangles; at most 100" in err
+    monkeypatch.setattr(meshes, "MAX_FILE_BYTES", 1000)
+    rc, _, err = simulate(capfd, scene)
+    assert rc == 2 and err.count("\n") == 1 and "MB are read" in err
+
+
+def test_the_path_is_relative_to_the_scene_file(tmp_path, capfd, torus, monkeypatch):
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "t.stl").write_bytes(torus.read_bytes())
+    (tmp_path / "scenes").mkdir()
+    scene = write_scene(tmp_path / "scenes", "../meshes/t.stl")
+    monkeypatch.chdir(tmp_path / "meshes")  # not where the scene is
+    rc, out, err = simulate(capfd, scene)
+    assert rc == 0, err
+    assert "collide_mesh" in json.loads(out)["effects"]
+
+
+def test_mesh_objects_need_a_path_and_only_they_take_one():
+    with pytest.raises(SceneError, match=r"objects\[0\]: a mesh needs `path`"):
+        loads('[[objects]]\ntype = "mesh"\n')
+    with pytest.raises(SceneError, match="`path` is for meshes, not a sphere"):
+        loads('[[objects]]\ntype = "sphere"\npath = "a.stl"\n')
+    with pytest.raises(SceneError, match="scene.object"):
+        loads('[scene]\nobject = "mesh"\n')  # the original's single object has no file
+
+
+def test_rotation_is_about_x_then_y_then_z():
+    r = meshes.rotation_matrix([90.0, 90.0, 0.0])
+    # x first takes +y to +z, then y takes +z to +x
+    assert r @ np.array([0.0, 1.0, 0.0]) == pytest.approx([1.0, 0.0, 0.0], abs=1e-12)
+    assert SceneObject().rotation == [0.0, 0.0, 0.0] and SceneObject().scale == 1.0
