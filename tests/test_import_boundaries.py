@@ -2,11 +2,15 @@
 library, and the renderer no terminal library. Each check runs in a fresh interpreter, so
 modules other tests imported cannot hide or fake a violation."""
 
+import ast
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
+
+import cloth_tui
 
 FORBIDDEN = {
     "cloth_tui.sim": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
@@ -40,3 +44,56 @@ def test_package_imports_nothing_from_the_layers_above(package):
 
 def test_the_probe_sees_what_a_package_imports():
     assert loaded_by("cloth_tui.tui", ("textual", "numpy")) == ["numpy", "textual"]
+
+
+def module_imports(root: Path) -> dict[str, set[str]]:
+    """Each module of the package → the package modules it imports at module level."""
+    graph = {}
+    for path in root.rglob("*.py"):
+        parts = path.relative_to(root.parent).with_suffix("").parts
+        module = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+        deps = set()
+        for node in ast.parse(path.read_text()).body:
+            if not isinstance(node, ast.ImportFrom):
+                continue
+            if node.level:
+                base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+                names = [f"{target}.{a.name}" for a in node.names] if not node.module \
+                    else [target]
+            else:
+                names = [node.module or ""]
+            deps.update(n for n in names if n.startswith("cloth_tui"))
+        graph[module] = deps
+    return {m: {d for d in deps if d in graph} for m, deps in graph.items()}
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    cycles, state = [], {}
+
+    def visit(module, stack):
+        state[module] = "open"
+        stack.append(module)
+        for dep in sorted(graph[module]):
+            if state.get(dep) == "open":
+                cycles.append(stack[stack.index(dep):] + [dep])
+            elif dep not in state:
+                visit(dep, stack)
+        stack.pop()
+        state[module] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [])
+    return cycles
+
+
+def test_no_import_circle_inside_the_package():
+    graph = module_imports(Path(cloth_tui.__file__).parent)
+    assert len(graph) > 40
+    assert import_cycles(graph) == []
+
+
+def test_the_cycle_finder_sees_a_circle():
+    assert import_cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c", "a"]]
