@@ -5,7 +5,9 @@ Crash safety:
 - PNG (screenshots, preview.png) is written to a temp name beside the target and renamed, so a
   reader never sees half a file.
 - MP4 is H.264 in *fragmented* MP4, a self-contained fragment about every second (GOP = fps).
-  While recording, the file is `NAME.partial.mp4`; a clean finish renames it to `NAME.mp4`.
+  While recording, the file is `NAME.partial.mp4` (or `NAME.K.partial.mp4` if that name is
+  taken), created exclusively: never through a symbolic link planted there, never over an
+  existing file. A clean finish renames it over `NAME.mp4`.
   If the process is killed (even SIGKILL), `NAME.partial.mp4` stays behind and plays up to its
   last complete fragment: there is no index at the end to lose.
 - GIF frames are held in memory and written (temp name, then rename) when the video ends;
@@ -24,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..util import atomic_write
+from ..util import EXCLUSIVE_NEW_FILE, NEW_FILE_MODE, atomic_write
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PREVIEW_NAME = "preview.png"
@@ -65,6 +67,22 @@ def timestamped(folder: Path, prefix: str, suffix: str) -> Path:
 
 def partial_name(path: Path) -> str:
     return f"{path.stem}.partial{path.suffix}"
+
+
+def claim_partial(path: Path) -> Path:
+    """Create the temporary file a recording is written to, exclusively (O_EXCL, no link
+    followed): `NAME.partial.mp4`, or `NAME.2.partial.mp4`… when that exists."""
+    for k in range(1, 1000):
+        stem = path.stem if k == 1 else f"{path.stem}.{k}"
+        candidate = path.with_name(f"{stem}.partial{path.suffix}")
+        try:
+            os.close(os.open(candidate, EXCLUSIVE_NEW_FILE, NEW_FILE_MODE))
+        except FileExistsError:
+            continue
+        except OSError as e:
+            raise CaptureError(f"cannot write {path}: {_reason(e)}") from None
+        return candidate
+    raise CaptureError(f"cannot write {path}: no free temporary name beside it")
 
 
 def save_png(image: np.ndarray, path: Path, compress_level: int = 6,
@@ -109,8 +127,9 @@ class VideoWriter:
         self.closed = False
         self._gif: list[np.ndarray] = []
         self._encoder = None
-        self.partial = self.path.with_name(partial_name(self.path))
+        self.partial: Path | None = None
         if self.kind == ".mp4":
+            self.partial = claim_partial(self.path)
             self._start_mp4()
 
     def _start_mp4(self) -> None:
@@ -135,6 +154,8 @@ class VideoWriter:
                     "-flush_packets", "1"])
             self._encoder.send(None)  # starts ffmpeg
         except (OSError, RuntimeError) as e:
+            with contextlib.suppress(OSError):
+                os.unlink(self.partial)
             raise CaptureError(f"cannot start the video encoder for {self.path}: "
                                f"{_reason(e)}") from None
 
