@@ -202,6 +202,13 @@ class VideoWriter:
         with atomic_write(self.path) as fh:
             fh.write(data)
 
+    def discard(self) -> None:
+        """Stop and remove the file: for a recording with nothing in it."""
+        self.abort()
+        if self.partial is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.partial)
+
     def abort(self) -> None:
         """Stop without finishing; an MP4 keeps its playable `.partial.mp4`."""
         if self.closed:

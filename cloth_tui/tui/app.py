@@ -21,6 +21,7 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
+from ..render.capture import timestamped
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
@@ -232,6 +233,10 @@ class ClothApp(App):
             self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
         elif ev.kind == "video_saved":
             self.notify(f"Video saved: {ev.path}")
+        elif ev.kind == "video_empty":
+            self.notify(f"Nothing recorded: {ev.message}", severity="warning")
+        elif ev.kind == "notice":
+            self.notify(ev.message, severity="warning", timeout=10)
         self._refresh_status()
 
     def on_preview_resized(self, message: Preview.Resized) -> None:
@@ -388,7 +393,7 @@ class ClothApp(App):
             self.renderer.toggle_recording()
 
     def action_save_scene(self) -> None:
-        path = self.captures_dir / f"scene-{time.strftime('%Y%m%d-%H%M%S')}.toml"
+        path = timestamped(self.captures_dir, "scene", ".toml")  # -2, -3… within a second
         try:
             save_scene(self.scene, path)
         except SceneError as e:

@@ -1,0 +1,15 @@
+"""Files the app writes: scenes saved within one second each get their own file."""
+
+from .conftest import SIZE, make_app, notifications, run, until
+
+
+def test_scenes_saved_within_a_second_get_their_own_files(tmp_path):
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            for _ in range(5):
+                await pilot.press("s")
+            await until(pilot, lambda: sum("Scene saved" in m for m in notifications(app)) == 5)
+        names = sorted(p.name for p in (tmp_path / "caps").glob("scene-*.toml"))
+        assert len(names) == 5, names
+    run(go())
