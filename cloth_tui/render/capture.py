@@ -19,6 +19,7 @@ Every failure to write surfaces as CaptureError with a one-line message.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import time
 from datetime import datetime
@@ -30,6 +31,9 @@ from ..util import EXCLUSIVE_NEW_FILE, NEW_FILE_MODE, atomic_write
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PREVIEW_NAME = "preview.png"
+PREVIEW_RETRY_S = 2.0  # after a failed preview write, try again this often (quietly)
+NEARLY_FULL_BYTES = 1 << 20  # free space below which a broken encoder is blamed on the disk
+NO_SPACE = os.strerror(errno.ENOSPC)
 
 
 class CaptureError(Exception):
@@ -40,6 +44,18 @@ class CaptureError(Exception):
 def _reason(e: BaseException) -> str:
     text = getattr(e, "strerror", None) or str(e).strip()
     return text.splitlines()[0] if text else type(e).__name__
+
+
+def _encoder_failure(e: BaseException, folder: Path) -> str:
+    """Why the encoder stopped. ffmpeg writing to a full disk exits, and we only see our pipe
+    to it break (EPIPE): when the folder has no room left, name that, the real cause."""
+    if isinstance(e, OSError) and e.errno == errno.ENOSPC:
+        return NO_SPACE
+    try:
+        st = os.statvfs(folder)
+    except OSError:
+        return _reason(e)
+    return NO_SPACE if st.f_bavail * st.f_frsize < NEARLY_FULL_BYTES else _reason(e)
 
 
 def ensure_folder(folder: Path) -> Path:
@@ -174,7 +190,8 @@ class VideoWriter:
                 self._encoder.send(frame.tobytes())
             except (OSError, RuntimeError, StopIteration) as e:
                 self.abort()
-                raise CaptureError(f"video encoder failed for {self.path}: {_reason(e)}") from None
+                raise CaptureError(f"video encoder failed for {self.path}: "
+                                   f"{_encoder_failure(e, self.path.parent)}") from None
         self.frames += 1
 
     def close(self) -> Path:
@@ -189,7 +206,9 @@ class VideoWriter:
                 self._encoder.close()  # ffmpeg writes its last fragment and exits
                 os.replace(self.partial, self.path)
         except (OSError, RuntimeError, ValueError) as e:
-            raise CaptureError(f"cannot finish {self.path}: {_reason(e)}") from None
+            self._remove_empty_partial()
+            raise CaptureError(f"cannot finish {self.path}: "
+                               f"{_encoder_failure(e, self.path.parent)}") from None
         return self.path
 
     def _write_gif(self) -> None:
@@ -218,6 +237,16 @@ class VideoWriter:
         if self._encoder is not None:
             with contextlib.suppress(Exception):
                 self._encoder.close()
+        self._remove_empty_partial()
+
+    def _remove_empty_partial(self) -> None:
+        """A partial MP4 with data plays up to its last fragment and stays; an empty one
+        (e.g. the disk was full from the start) is only clutter."""
+        if self.partial is None:
+            return
+        with contextlib.suppress(OSError):
+            if os.stat(self.partial).st_size == 0:
+                os.unlink(self.partial)
 
 
 class PreviewFile:
@@ -231,16 +260,21 @@ class PreviewFile:
         self.failed = False
 
     def offer(self, image: np.ndarray, force: bool = False) -> bool:
-        """Write if due; returns whether it wrote. Raises CaptureError once, then stays quiet
-        (a preview is a convenience: one report is enough)."""
+        """Write if due; returns whether it wrote. Raises CaptureError on the first failure of
+        a run of them (a preview is a convenience: one report is enough), then retries every
+        PREVIEW_RETRY_S quietly, and writes at its rate again once writing works."""
         now = time.monotonic()
-        if self.failed or (not force and now - self._last < self.period):
+        period = PREVIEW_RETRY_S if self.failed else self.period
+        if not force and now - self._last < period:
             return False
         self._last = now
         try:
             # Fast: 5 Hz must stay cheap; no fsync, a preview is worthless after a crash.
             save_png(image, self.path, compress_level=1, durable=False)
         except CaptureError:
+            if self.failed:
+                return False  # still failing: already reported
             self.failed = True
             raise
+        self.failed = False
         return True

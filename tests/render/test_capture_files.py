@@ -1,12 +1,19 @@
 """Files a capture writes: temporaries created exclusively (no writing through a planted link,
-no overwriting an existing partial file)."""
+no overwriting an existing partial file); a full disk is named as such, leaves no empty files,
+and the preview file recovers when writing works again."""
 
+import errno
 import os
+import subprocess
+from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
-from cloth_tui.render.capture import VideoWriter
+from cloth_tui.render.capture import CaptureError, PreviewFile, VideoWriter
 from cloth_tui.util import atomic_write
+
+FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
 
 def _record(path, n=3, size=(32, 24)):
@@ -60,3 +67,60 @@ def test_atomic_write_temporaries_are_exclusive_and_follow_no_link(tmp_path, mon
     with atomic_write(tmp_path / "x.bin") as fh:
         fh.write(b"x")
     assert opened and all(f & os.O_EXCL and f & os.O_NOFOLLOW for f in opened)
+
+
+def test_preview_file_recovers_after_a_failed_write(tmp_path, monkeypatch):
+    image = np.zeros((8, 8, 3), np.uint8)
+    preview = PreviewFile(tmp_path)
+    real_replace = os.replace
+
+    def full(*args, **kwargs):
+        raise FULL
+
+    monkeypatch.setattr(os, "replace", full)
+    with pytest.raises(CaptureError, match="(?i)no space left on device"):
+        preview.offer(image, force=True)
+    assert preview.offer(image, force=True) is False  # reported once, not again
+    monkeypatch.setattr(os, "replace", real_replace)
+    assert preview.offer(image, force=True) is True
+    assert [p.name for p in tmp_path.iterdir()] == ["preview.png"]
+
+
+def test_broken_encoder_pipe_on_a_full_disk_says_no_space(tmp_path, monkeypatch):
+    """ffmpeg exits on a full disk; all we see is EPIPE on its pipe."""
+    import imageio_ffmpeg
+
+    def ffmpeg_on_a_full_disk(*args, **kwargs):
+        yield  # started
+        raise BrokenPipeError(errno.EPIPE, os.strerror(errno.EPIPE))
+
+    monkeypatch.setattr(imageio_ffmpeg, "write_frames", ffmpeg_on_a_full_disk)
+    monkeypatch.setattr(os, "statvfs", lambda _: SimpleNamespace(f_bavail=0, f_frsize=4096))
+    video = VideoWriter(tmp_path / "v.mp4", 10, (32, 24))
+    with pytest.raises(CaptureError, match="(?i)no space left on device"):
+        video.write(np.zeros((24, 32, 3), np.uint8))
+    assert list(tmp_path.iterdir()) == []  # no empty .partial.mp4
+
+
+@pytest.fixture
+def full_tmpfs(tmp_path):
+    """A real 64 kB file system, filled up (needs the right to mount; skipped otherwise)."""
+    mnt = tmp_path / "tiny"
+    mnt.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs",
+                                            str(mnt)], capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        with open(mnt / "filler", "wb") as fh:
+            with pytest.raises(OSError):
+                fh.write(b"\0" * (1 << 20))
+                fh.flush()
+        yield mnt
+    finally:
+        subprocess.run(["umount", str(mnt)], check=False)
+
+
+def test_mp4_on_a_really_full_disk(full_tmpfs):
+    with pytest.raises(CaptureError, match="(?i)no space left on device"):
+        _record(full_tmpfs / "v.mp4", n=40, size=(320, 240))
+    assert sorted(p.name for p in full_tmpfs.iterdir()) == ["filler"]

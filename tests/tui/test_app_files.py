@@ -13,3 +13,23 @@ def test_scenes_saved_within_a_second_get_their_own_files(tmp_path):
         names = sorted(p.name for p in (tmp_path / "caps").glob("scene-*.toml"))
         assert len(names) == 5, names
     run(go())
+
+
+def test_scene_save_on_a_full_disk_says_so_and_leaves_nothing(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            (tmp_path / "caps").mkdir(exist_ok=True)
+            monkeypatch.setattr(os, "replace", full)
+            await pilot.press("s")
+            await until(pilot, lambda: any("No space left on device" in m
+                                           for m in notifications(app)))
+            monkeypatch.undo()
+        assert [p.name for p in (tmp_path / "caps").iterdir()] == []
+    run(go())
