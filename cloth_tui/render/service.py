@@ -169,6 +169,7 @@ class RenderService:
             self._emit("unavailable", None, reason)
             return
         self._start_preview()
+        self._report_textures()
         try:
             while not self._stopping.is_set():
                 spinning = self._renderer._scene.appearance.auto_rotate
@@ -195,10 +196,16 @@ class RenderService:
             snapshot = self._last_snapshot  # camera/appearance moved: draw the same frame
         if snapshot is not None:
             self._draw(snapshot)
+        self._report_textures()  # a texture is read when the scene or the cloth needs it
 
     def _do(self, action) -> bool:
         action(self._renderer)
         return True
+
+    def _report_textures(self) -> None:
+        notices, self._renderer.texture_notices = self._renderer.texture_notices, []
+        for text in notices:
+            self._emit("notice", None, text)
 
     def _draw(self, snapshot) -> None:
         t0 = time.perf_counter()
