@@ -11,7 +11,8 @@ Crash safety:
   If the process is killed (even SIGKILL), `NAME.partial.mp4` stays behind and plays up to its
   last complete fragment: there is no index at the end to lose.
 - GIF frames are held in memory and written (temp name, then rename) when the video ends;
-  a killed GIF recording leaves nothing.
+  a killed GIF recording leaves nothing. So a GIF is bounded: at most GIF_MAX_PIXELS pixels
+  over all its frames (325 frames at 640×480); longer videos are for MP4.
 Finished files are written by util.atomic_write and get the permissions the umask gives.
 Every failure to write surfaces as CaptureError with a one-line message.
 """
@@ -31,6 +32,8 @@ from ..util import EXCLUSIVE_NEW_FILE, NEW_FILE_MODE, atomic_write
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PREVIEW_NAME = "preview.png"
+# frames × width × height of one GIF: ~300 MB held as RGB, about as much again to encode
+GIF_MAX_PIXELS = 100_000_000
 PREVIEW_RETRY_S = 2.0  # after a failed preview write, try again this often (quietly)
 NEARLY_FULL_BYTES = 1 << 20  # free space below which a broken encoder is blamed on the disk
 NO_SPACE = os.strerror(errno.ENOSPC)
@@ -56,6 +59,11 @@ def _encoder_failure(e: BaseException, folder: Path) -> str:
     except OSError:
         return _reason(e)
     return NO_SPACE if st.f_bavail * st.f_frsize < NEARLY_FULL_BYTES else _reason(e)
+
+
+def gif_max_frames(size: tuple[int, int]) -> int:
+    """The most frames a GIF of this size may have (GIF_MAX_PIXELS)."""
+    return max(1, GIF_MAX_PIXELS // max(1, size[0] * size[1]))
 
 
 def ensure_folder(folder: Path) -> Path:
@@ -181,6 +189,9 @@ class VideoWriter:
         w, h = self.size
         frame = fit_frame(np.asarray(image, dtype=np.uint8), w, h)
         if self.kind == ".gif":
+            if self.frames >= gif_max_frames(self.size):
+                raise CaptureError(f"{self.path}: a GIF holds every frame in memory: at most "
+                                   f"{gif_max_frames(self.size)} frames at {w}x{h}; use .mp4")
             self._gif.append(frame)
         else:
             ew, eh = self.encoded_size

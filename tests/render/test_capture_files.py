@@ -124,3 +124,31 @@ def test_mp4_on_a_really_full_disk(full_tmpfs):
     with pytest.raises(CaptureError, match="(?i)no space left on device"):
         _record(full_tmpfs / "v.mp4", n=40, size=(320, 240))
     assert sorted(p.name for p in full_tmpfs.iterdir()) == ["filler"]
+
+
+def test_gif_past_its_length_is_refused_in_one_line_before_any_work(tmp_path, capsys,
+                                                                      monkeypatch):
+    from cloth_tui.cli import main
+    from cloth_tui.render import cli as render_cli
+    from cloth_tui.render.probe import RendererUnavailable
+
+    def no_work(*args, **kwargs):  # the refusal must come before the renderer is asked for
+        raise RendererUnavailable("reached the renderer")
+
+    monkeypatch.setattr(render_cli, "require_renderer", no_work)
+    out = tmp_path / "x.gif"
+    assert main(["render", "default", "-o", str(out), "--frames", "100000"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "at most 325 frames at 640x480" in err
+    assert not out.exists()
+
+
+def test_gif_writer_stops_at_its_length(tmp_path, monkeypatch):
+    from cloth_tui.render import capture
+
+    monkeypatch.setattr(capture, "GIF_MAX_PIXELS", 3 * 8 * 8)
+    video = VideoWriter(tmp_path / "a.gif", 10, (8, 8))
+    for _ in range(3):
+        video.write(np.zeros((8, 8, 3), np.uint8))
+    with pytest.raises(CaptureError, match="at most 3 frames"):
+        video.write(np.zeros((8, 8, 3), np.uint8))
