@@ -18,10 +18,13 @@ FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
 def _record(path, n=3, size=(32, 24)):
     video = VideoWriter(path, 10, size)
-    for k in range(n):
-        img = np.full((size[1], size[0], 3), 40 + 50 * k, np.uint8)
-        video.write(img)
-    return video.close()
+    rng = np.random.default_rng(0)
+    try:
+        for _ in range(n):  # noise: incompressible, so a small disk fills
+            video.write(rng.integers(0, 256, (size[1], size[0], 3), dtype=np.uint8))
+        return video.close()
+    finally:
+        video.abort()  # after a failure: ffmpeg gone before the test looks
 
 
 def test_mp4_does_not_write_through_a_link_planted_at_its_partial_name(tmp_path):
@@ -117,12 +120,12 @@ def full_tmpfs(tmp_path):
                 fh.flush()
         yield mnt
     finally:
-        subprocess.run(["umount", str(mnt)], check=False)
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
 
 
 def test_mp4_on_a_really_full_disk(full_tmpfs):
     with pytest.raises(CaptureError, match="(?i)no space left on device"):
-        _record(full_tmpfs / "v.mp4", n=40, size=(320, 240))
+        _record(full_tmpfs / "v.mp4", n=300, size=(320, 240))
     assert sorted(p.name for p in full_tmpfs.iterdir()) == ["filler"]
 
 
