@@ -9,6 +9,9 @@ from pathlib import Path
 from typing import IO, Iterator
 
 NEW_FILE_MODE = 0o666  # what the kernel narrows by the umask, as for any file a program makes
+# A new file and only a new file: never an existing one, never through a symbolic link.
+EXCLUSIVE_NEW_FILE = (os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0)
+                      | getattr(os, "O_CLOEXEC", 0))
 
 
 @contextlib.contextmanager
@@ -39,11 +42,10 @@ def atomic_write(path: str | os.PathLike, mode: str = "wb", encoding: str | None
 
 
 def _create_temp(folder: Path, name: str) -> tuple[int, Path]:
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
     for _ in range(100):
         tmp = folder / f".{name}.{secrets.token_hex(4)}.part"
         try:
-            return os.open(tmp, flags, NEW_FILE_MODE), tmp
+            return os.open(tmp, EXCLUSIVE_NEW_FILE, NEW_FILE_MODE), tmp
         except FileExistsError:
             continue
     raise FileExistsError(f"no free temporary name for {name} in {folder}")

@@ -1,7 +1,7 @@
 """`cloth-tui render SCENE -o OUT.png|OUT.mp4|OUT.gif`: simulate headless and draw.
 
 PNG: the last of `--frames` frames (default: 2 s of simulated time, 2·frame_rate frames, so
-the sheet has settled). MP4/GIF: every frame (default 90).
+the sheet has settled). MP4/GIF: every frame (default 90); a GIF at most capture.GIF_MAX_PIXELS pixels over all frames.
 SIGINT/SIGTERM finish the video properly (playable file, final name) and exit 130/143.
 A bake (SCENE.usd/.usdc/.usda) is drawn from its frames, without simulating: see replay.py.
 """
@@ -20,7 +20,7 @@ from ..io.usd_bake import USD_SUFFIXES
 from ..safe_text import escape_controls
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
-from .capture import CaptureError, VideoWriter, save_png
+from .capture import CaptureError, VideoWriter, gif_max_frames, save_png
 from .probe import RendererUnavailable, require_renderer
 from .renderer import MAX_SIZE
 
@@ -71,6 +71,10 @@ def run_render(args) -> int:
     kind = out.suffix.lower()
     frames = args.frames or default_frames(kind, scene)
     fps = getattr(args, "fps", 30) or 30
+    if kind == ".gif" and frames > gif_max_frames(size):
+        raise UsageError(f"{out}: a GIF holds every frame in memory: at most "
+                         f"{gif_max_frames(size)} frames at {size[0]}x{size[1]} "
+                         f"(fewer --frames, a smaller --size, or .mp4)")
     try:
         require_renderer()  # before simulating: a missing driver is said at once
     except RendererUnavailable as e:

@@ -66,6 +66,7 @@ class Renderer:
         self._scene = None
         self._appearance_key = None
         self._textures: dict[str, object] = {}
+        self.texture_notices: list[str] = []  # textures drawn without, not yet reported
         self.azimuth, self.elevation, self.distance = HOME_AZIMUTH, HOME_ELEVATION, HOME_DISTANCE
         self.target = np.zeros(3)
         self.update_scene(scene)
@@ -92,15 +93,29 @@ class Renderer:
         if name not in self._textures:
             try:
                 self._textures[name] = load_texture_image(name)
-            except (OSError, ValueError):
-                self._textures[name] = None  # a missing/broken image draws untextured
+            except Exception as e:  # a texture is decoration: a broken one draws untextured
+                self._textures[name] = None
+                self._texture_failed(e)
         return self._textures[name]
+
+    def _texture_failed(self, e: Exception) -> None:
+        reason = str(e) if isinstance(e, ValueError) else f"texture: {type(e).__name__}: {e}"
+        self.texture_notices.append(f"{reason}; drawn without it")
+
+    def _make_texture(self, image):
+        if image is None:
+            return None
+        try:
+            return self.pv.Texture(image)
+        except Exception as e:
+            self._texture_failed(e)
+            return None
 
     def _style_cloth(self) -> None:
         a = self._scene.appearance
         color = hex_rgb(a.cloth_color)
         image = self._texture_image(a.cloth_texture)
-        texture = self.pv.Texture(image) if image is not None else None
+        texture = self._make_texture(image)
         if texture is not None:
             color = np.ones(3) * 0.9  # let the image show its own colours
         for actor in (self.cloth_actor, self.wire_actor):

@@ -40,7 +40,8 @@ class Frame:
 
 @dataclass(frozen=True)
 class CaptureEvent:
-    kind: str          # 'screenshot' | 'video_started' | 'video_saved' | 'error' | 'unavailable'
+    kind: str  # 'screenshot' | 'video_started' | 'video_saved' | 'video_empty' | 'error'
+    #            | 'unavailable' | 'notice'
     path: Path | None
     message: str
 
@@ -168,6 +169,7 @@ class RenderService:
             self._emit("unavailable", None, reason)
             return
         self._start_preview()
+        self._report_textures()
         try:
             while not self._stopping.is_set():
                 spinning = self._renderer._scene.appearance.auto_rotate
@@ -194,10 +196,16 @@ class RenderService:
             snapshot = self._last_snapshot  # camera/appearance moved: draw the same frame
         if snapshot is not None:
             self._draw(snapshot)
+        self._report_textures()  # a texture is read when the scene or the cloth needs it
 
     def _do(self, action) -> bool:
         action(self._renderer)
         return True
+
+    def _report_textures(self) -> None:
+        notices, self._renderer.texture_notices = self._renderer.texture_notices, []
+        for text in notices:
+            self._emit("notice", None, text)
 
     def _draw(self, snapshot) -> None:
         t0 = time.perf_counter()
@@ -243,6 +251,17 @@ class RenderService:
             due = MAX_REPEAT
         for _ in range(due):
             self._video.write(image)
+
+    def _pad_still(self, video: VideoWriter) -> None:
+        """A paused simulation sends no snapshots: hold the last picture up to now (at most
+        MAX_REPEAT frames), so the video lasts about as long as the recording did."""
+        self._video = video
+        try:
+            self._record(self._last_image)
+        except CaptureError:
+            pass  # close() reports a broken encoder
+        finally:
+            self._video = None
 
     def _start_preview(self) -> None:
         if not self._want_preview:
@@ -297,7 +316,7 @@ class RenderService:
             self._emit("error", None, str(e))
             return False
         self._emit("video_started", self._video.path, f"recording to {self._video.path}")
-        return False
+        return True  # draw the last picture again: a paused simulation still gets a frame
 
     def _do_stop_video(self) -> bool:
         self._finish_video()
@@ -307,7 +326,13 @@ class RenderService:
         video, self._video = self._video, None
         if video is None:
             return
+        if video.frames and self._last_image is not None:
+            self._pad_still(video)
         self._renderer.resize(*self._size)
+        if video.frames == 0:  # nothing was drawn while recording: no empty file
+            video.discard()
+            self._emit("video_empty", None, "nothing was drawn while recording; no video saved")
+            return
         try:
             path = video.close()
         except CaptureError as e:

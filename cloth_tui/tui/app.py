@@ -8,7 +8,9 @@ queues stale frames, and it never waits on either thread.
 
 from __future__ import annotations
 
+import asyncio
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -19,6 +21,7 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
+from ..render.capture import timestamped
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
@@ -33,6 +36,8 @@ from .preview import Preview
 from .status import Readout, StatusBar
 
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
+# Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
+ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
 def default_renderer_factory(**kwargs):
@@ -99,6 +104,7 @@ class ClothApp(App):
         return self.query_one(Controls)
 
     def on_mount(self) -> None:
+        self._end_on_signals()
         try:
             self.renderer = self.renderer_factory(
                 scene=self.scene, size=(160, 90), captures_dir=self.captures_dir,
@@ -110,6 +116,20 @@ class ClothApp(App):
         self._start_sim(paused=self.start_paused)
         self.set_interval(0.2, self._refresh_status)
         self.set_timer(FREEZE_GC_AFTER_S, self._freeze_start_up)  # if no frame comes
+
+    def _end_on_signals(self) -> None:
+        """Without this, SIGTERM/SIGHUP kill the process mid-frame: the video stays
+        `.partial.mp4` and the terminal is left in the alternate screen with the mouse on."""
+        loop = asyncio.get_running_loop()
+        for sig in ENDING_SIGNALS:
+            try:
+                loop.add_signal_handler(sig, self._end_by_signal, sig)
+            except (ValueError, RuntimeError, NotImplementedError):
+                return  # not the main thread's loop: the default behaviour stays
+
+    def _end_by_signal(self, sig: int) -> None:
+        self.shutdown()
+        self.exit(return_code=128 + int(sig))
 
     def _start_sim(self, paused: bool) -> None:
         if self.sim is not None:
@@ -216,6 +236,10 @@ class ClothApp(App):
             self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
         elif ev.kind == "video_saved":
             self.notify(f"Video saved: {ev.path}")
+        elif ev.kind == "video_empty":
+            self.notify(f"Nothing recorded: {ev.message}", severity="warning")
+        elif ev.kind == "notice":
+            self.notify(ev.message, severity="warning", timeout=10)
         self._refresh_status()
 
     def on_preview_resized(self, message: Preview.Resized) -> None:
@@ -376,7 +400,7 @@ class ClothApp(App):
         self._refresh_status()
 
     def action_save_scene(self) -> None:
-        path = self.captures_dir / f"scene-{time.strftime('%Y%m%d-%H%M%S')}.toml"
+        path = timestamped(self.captures_dir, "scene", ".toml")  # -2, -3… within a second
         try:
             save_scene(self.scene, path)
         except SceneError as e:

@@ -45,10 +45,13 @@ def widget_id(dotted: str) -> str:
 
 
 def format_value(value: Any) -> str:
+    """Text that reads back as exactly `value` (shortest round-trip form), so Enter on an
+    unchanged field changes nothing: 0.123456789 is not shown, then set, as 0.123457."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
-        return f"{value:g}"
+        text = repr(value)
+        return text[:-2] if text.endswith(".0") else text  # "1", not "1.0"
     if isinstance(value, list):
         return ", ".join(format_value(float(v)) for v in value)
     return str(value)
@@ -67,6 +70,11 @@ def parse_text(dotted: str, text: str) -> Any:
             return [float(p) for p in parts]
         except ValueError:
             return text
+    if t == "int":
+        try:
+            return int(text)  # exact: a float would turn 2**63 - 1 into 2**63
+        except ValueError:
+            pass  # "1.5", "1e3": read as a float below
     if t in ("int", "float"):
         try:
             v = float(text)
