@@ -8,6 +8,8 @@ import signal
 import sys
 import threading
 
+from .safe_text import escape_controls
+
 EXIT_BY_SIGNAL = {signal.SIGINT: 130, signal.SIGTERM: 143}
 
 
@@ -35,6 +37,15 @@ class Interrupt:
     @property
     def name(self) -> str:
         return signal.Signals(self.signum).name if self.signum is not None else ""
+
+    def exit_status(self, done: int, total: int, kept: str) -> int:
+        """After the frame loop: 0, or, when a signal stopped it, one line on stderr saying how
+        far it got and what was `kept`, and the signal's exit status."""
+        if self.signum is None:
+            return 0
+        print(escape_controls(f"cloth-tui: {self.name}: stopped after {done} of {total} frames; "
+                              f"{kept}"), file=sys.stderr)
+        return EXIT_BY_SIGNAL[self.signum]
 
 
 class Progress:

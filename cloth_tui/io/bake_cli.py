@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
+from ..interrupt import Interrupt, Progress
 from ..safe_text import escape_controls
 from ..scene import apply_overrides, load
 from ..usage import UsageError, check_output_path
@@ -68,8 +68,4 @@ def run_bake(args) -> int:
     progress.end()
     where = out if out.suffix.lower() in USD_SUFFIXES else \
         f"{sequence_path(out, 1)} … {sequence_path(out, max(1, done)).name}"
-    if interrupt.signum is not None:
-        print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of {frames} "
-                              f"frames; saved {where}"), file=sys.stderr)
-        return EXIT_BY_SIGNAL[interrupt.signum]
-    return 0
+    return interrupt.exit_status(done, frames, f"saved {where}")

@@ -9,11 +9,9 @@ A bake (SCENE.usd/.usdc/.usda) is drawn from its frames, without simulating: see
 from __future__ import annotations
 
 import re
-import signal
 import sys
 from pathlib import Path
 
-from ..interrupt import EXIT_BY_SIGNAL
 from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
 from ..io.usd_bake import USD_SUFFIXES
@@ -114,10 +112,5 @@ def run_render(args) -> int:
         return 1
     finally:
         renderer.close()
-    if interrupt.signum is not None:
-        what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
-        name = signal.Signals(interrupt.signum).name
-        print(escape_controls(f"cloth-tui: {name}: stopped after {done} of {frames} frames; "
-                              f"{what}"), file=sys.stderr)
-        return EXIT_BY_SIGNAL[interrupt.signum]
-    return 0
+    return interrupt.exit_status(
+        done, frames, f"saved {out} ({done} frames)" if video is not None else "nothing saved")

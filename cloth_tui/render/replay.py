@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
+from ..interrupt import Interrupt, Progress
 from ..io.usd_read import UsdBake
 from ..safe_text import escape_controls
 from ..scene import apply_overrides, parse_override
@@ -86,9 +86,6 @@ def run_replay(args, out: Path, size: tuple[int, int],
         return 1
     finally:
         renderer.close()
-    if interrupt.signum is not None:
-        what = f"saved {out} ({done} frames)" if video is not None else "nothing saved"
-        print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of "
-                              f"{len(frames)} frames; {what}"), file=sys.stderr)
-        return EXIT_BY_SIGNAL[interrupt.signum]
-    return 0
+    return interrupt.exit_status(
+        done, len(frames),
+        f"saved {out} ({done} frames)" if video is not None else "nothing saved")

@@ -112,6 +112,21 @@ def _shape_distance(shape, qx, qy, qz, p, s):
     return _plane_distance(qx, qy, qz, s * p[3], s * p[4], s * p[5])
 
 
+@kernel(inline="always")
+def push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal):
+    """Particle i, at distance d along the outward normal n, goes out to the skin's surface
+    (`thickness` from the object's); its contact keeps depth[i] += how far and normal[i] = n
+    for the friction stage."""
+    push = thickness - d
+    x[i, 0] += push * nx
+    x[i, 1] += push * ny
+    x[i, 2] += push * nz
+    depth[i] += push
+    normal[i, 0] = nx
+    normal[i, 1] = ny
+    normal[i, 2] = nz
+
+
 @kernel()
 def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
     """Contact projection for one object: a particle inside the skin goes out along the
@@ -124,16 +139,8 @@ def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
             continue
         d, nx, ny, nz = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p,
                                         side[i])
-        if d >= thickness:
-            continue
-        push = thickness - d
-        x[i, 0] += push * nx
-        x[i, 1] += push * ny
-        x[i, 2] += push * nz
-        depth[i] += push
-        normal[i, 0] = nx
-        normal[i, 1] = ny
-        normal[i, 2] = nz
+        if d < thickness:
+            push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal)
 
 
 @kernel()

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import meshes
 from ..meshes import MeshField
-from .colliders import ShapeCollider, orbit_offset
+from .colliders import ShapeCollider, orbit_offset, push_out_of_contact
 from .jit import kernel
 from .protocols import ObjectPose
 
@@ -70,16 +70,8 @@ def collide_mesh(x, inv_mass, center, origin, inv_cell, dist, grad, thickness, d
             continue
         d, nx, ny, nz = _mesh_distance(x[i, 0] - center[0], x[i, 1] - center[1],
                                        x[i, 2] - center[2], origin, inv_cell, dist, grad)
-        if d >= thickness:
-            continue
-        push = thickness - d
-        x[i, 0] += push * nx
-        x[i, 1] += push * ny
-        x[i, 2] += push * nz
-        depth[i] += push
-        normal[i, 0] = nx
-        normal[i, 1] = ny
-        normal[i, 2] = nz
+        if d < thickness:
+            push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal)
 
 
 @kernel()
