@@ -13,7 +13,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..scene import Scene
+from ..scene import Behavior, Scene, integrator_for
 from . import pipeline
 from .measures import (constraint_error, elastic_energy, energy, gravitational_energy,
                        kinetic_energy, max_stretch, stretch)
@@ -39,6 +39,20 @@ RUNAWAY_SPEED = 4.0  # × behavior.max_speed: a free particle this fast means di
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
 PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
 STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
+
+
+def halt_advice(b: Behavior) -> str:
+    """What to change when a frame diverges even at the guard's most substeps: only keys that
+    matter to the solver in use, and no integrator the scene already has."""
+    if b.solver == "springs":
+        advice = "lower behavior.stiffness or raise behavior.substeps"
+        if integrator_for(b) != "implicit_euler":
+            advice += ", or use behavior.integrator = implicit_euler (stable at any step)"
+        return advice
+    if b.solver == "xpbd":
+        return ("raise behavior.compliance or behavior.substeps, or weaken the forces "
+                "(gravity, wind, custom fields)")
+    return "raise behavior.substeps, or weaken the forces (gravity, wind, custom fields)"
 
 
 def has_energy_source(scene: Scene) -> bool:
@@ -170,10 +184,11 @@ class Simulation:
         return internal + gravitational_energy(m, st, sc), scale
 
     def _healthy(self, e0: tuple[float, float] | None) -> bool:
-        """Finite, no runaway speed, and (springs only) no spring at over twice its rest
-        length and no energy gained from nowhere. Position-based solvers keep speeds clamped
-        and may legitimately stretch a lot at few iterations; a force-based integrator going
-        unstable shows as stretch or as energy, since its speeds are clamped too."""
+        """Finite, no runaway speed, and (springs only) no energy gained from nowhere and, for
+        explicit integrators, no spring at over twice its rest length. Position-based solvers
+        keep speeds clamped and may legitimately stretch a lot at few iterations; a force-based
+        integrator going unstable shows as stretch or as energy, since its speeds are clamped
+        too."""
         if not self.state.is_finite():
             return False
         b = self.scene.behavior
@@ -182,7 +197,10 @@ class Simulation:
             return False
         if b.solver != "springs":
             return True
-        if stretch(self.model, self.state.x)[0] > SPRING_DIVERGED:
+        # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
+        # An explicit integrator going unstable shows first as stretch (its speeds are clamped).
+        if integrator_for(b) != "implicit_euler" and \
+                stretch(self.model, self.state.x)[0] > SPRING_DIVERGED:
             return False
         if e0 is not None:
             e_start, scale = e0
@@ -196,12 +214,8 @@ class Simulation:
         if self._guard_level >= MAX_GUARD_LEVEL:
             # Even 16× the substeps diverges: hold the last good state and say why, rather
             # than show garbage or restart the sheet every frame.
-            b = self.scene.behavior
-            self.halted = (f"the step diverges even at {self.step.substeps} substeps "
-                           f"per frame; lower behavior.stiffness, raise behavior.substeps"
-                           + (" or use behavior.integrator = implicit_euler"
-                              if b.solver == "springs" else "")
-                           + ", then restart")
+            self.halted = (f"the step diverges even at {self.step.substeps} substeps per "
+                           f"frame; {halt_advice(self.scene.behavior)}, then restart")
             return
         self._guard_level += 1
         self._build_step()

@@ -222,3 +222,30 @@ def test_simulate_summary_is_exact():
     assert st["max_stretch"] == pytest.approx(np.max(np.abs(lengths / sim.model.rest_length
                                                             - 1)))
     assert st["frames"] == 7
+
+
+def test_a_soft_implicit_sheet_stretches_without_a_halt():
+    # stiffness 1 N/m: the sheet's weight alone stretches springs past twice their length;
+    # implicit Euler is stable there, so that is the material, not divergence (issue 19).
+    from cloth_tui.scene import Scene
+    from cloth_tui.sim.runner import Simulation
+
+    sim = Simulation(Scene().with_value("behavior.solver", "springs")
+                     .with_value("behavior.stiffness", 1.0))
+    for _ in range(120):
+        sim.advance_frame()
+    s = sim.stats()
+    assert s["halted"] is None and s["recoveries"] == 0 and s["finite"]
+    assert s["max_stretch"] > 1.0  # the case the old stretch rule mistook for divergence
+
+
+def test_halt_advice_names_only_what_fits_the_solver():
+    from cloth_tui.scene import Behavior
+    from cloth_tui.sim.runner import halt_advice
+
+    implicit = halt_advice(Behavior(solver="springs", integrator="implicit_euler"))
+    assert "stiffness" in implicit and "implicit_euler" not in implicit
+    assert "implicit_euler" in halt_advice(Behavior(solver="springs", integrator="verlet"))
+    for solver in ("pbd", "xpbd"):
+        assert "stiffness" not in halt_advice(Behavior(solver=solver))
+    assert "compliance" in halt_advice(Behavior(solver="xpbd"))
