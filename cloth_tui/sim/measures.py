@@ -28,18 +28,24 @@ from .model import ClothModel
 from .state import ClothState
 
 
+@kernel(fastmath=False, inline="always")
+def edge_length(x, edges, e) -> float:
+    """|x_b − x_a| of constraint e, m."""
+    a = edges[e, 0]
+    b = edges[e, 1]
+    dx = x[b, 0] - x[a, 0]
+    dy = x[b, 1] - x[a, 1]
+    dz = x[b, 2] - x[a, 2]
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
 @kernel(fastmath=False)
 def max_stretch(x, edges, rest) -> float:
     """max |L/L0 − 1| over the constraints; NaN if any length is NaN. One pass, no temporary
     arrays: cheap enough to run after every frame for the substep controller."""
     worst = 0.0
     for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        s = abs(math.sqrt(dx * dx + dy * dy + dz * dz) / rest[e] - 1.0)
+        s = abs(edge_length(x, edges, e) / rest[e] - 1.0)
         if s != s:
             return s
         if s > worst:
@@ -52,12 +58,7 @@ def spring_energy(x, edges, rest, k) -> float:
     """Σ ½ k (L − L0)² over the constraints, J."""
     total = 0.0
     for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        c = math.sqrt(dx * dx + dy * dy + dz * dz) - rest[e]
+        c = edge_length(x, edges, e) - rest[e]
         total += 0.5 * k * c * c
     return total
 
@@ -67,13 +68,8 @@ def xpbd_residual(x, edges, rest, lambdas, alpha_tilde) -> float:
     """max |C + α̃λ| over the constraints, m (0 when the compliant solve converged)."""
     worst = 0.0
     for e in range(edges.shape[0]):
-        a = edges[e, 0]
-        b = edges[e, 1]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
         # λ is accumulated with C = L0 − L in the projection (xpbd.py), hence the signs
-        r = abs(rest[e] - math.sqrt(dx * dx + dy * dy + dz * dz) - alpha_tilde * lambdas[e])
+        r = abs(rest[e] - edge_length(x, edges, e) - alpha_tilde * lambdas[e])
         if r > worst:
             worst = r
     return worst
