@@ -86,7 +86,8 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                    help="frames to simulate (default: for PNG, 2 s of simulated time, i.e. "
                         "2×frame_rate frames, so the sheet has settled; for video, 90)")
     p.add_argument("--size", default="640x480", metavar="WxH", help="image size in pixels")
-    p.add_argument("--fps", type=_positive_int, default=30, help="video frames per second")
+    p.add_argument("--fps", type=_positive_int, default=None,
+                   help="video frames per second (default: 30; a bake: its own frame rate)")
 
     p = sub.add_parser("bake", help="simulate and write every frame: USD or OBJ/PLY files")
     _add_scene_args(p)
@@ -171,9 +172,9 @@ def cmd_accuracy(args) -> int:
 def cmd_app(args) -> int:
     from .scene import apply_overrides, load
 
-    if Path(args.scene).suffix.lower() in (".usd", ".usdc", ".usda"):
-        raise UsageError(f"{args.scene}: the app does not play bakes yet; draw it with "
-                         f"`cloth-tui render {args.scene} -o out.mp4`")
+    if Path(args.scene).suffix.lower() in (".usd", ".usdc", ".usda"):  # a bake: replay it
+        from .tui.replay_app import run_replay_app
+        return run_replay_app(Path(args.scene), args.overrides, Path(args.captures))
     scene = apply_overrides(load(args.scene), args.overrides)
     from .tui.app import run_app
     return run_app(scene, Path(args.captures))

@@ -3,7 +3,8 @@ simulating. The points come from the bake's time samples, the objects from its p
 rest of the picture (ground, poles, camera) from the scene recorded in it; `--set` may change
 only appearance.* keys, since nothing is simulated again.
 
-PNG: the last frame (or frame `--frames`); MP4/GIF: every frame (or the first `--frames`).
+PNG: the last frame (or frame `--frames`); MP4/GIF: every frame (or the first `--frames`), at
+the bake's own frame rate (its timeCodesPerSecond) unless `--fps` says otherwise.
 """
 
 from __future__ import annotations
@@ -13,10 +14,10 @@ from pathlib import Path
 from typing import Callable
 
 from ..interrupt import Interrupt, Progress
+from ..io.bake_player import bake_model
 from ..io.usd_read import UsdBake
 from ..safe_text import escape_controls
 from ..scene import apply_overrides, parse_override
-from ..sim.model import build_model
 from ..sim.runner import Snapshot
 from ..usage import UsageError
 from .capture import CaptureError, VideoWriter, save_png
@@ -39,10 +40,7 @@ def run_replay(args, out: Path, size: tuple[int, int],
     bake = UsdBake(Path(args.scene))
     scene = bake_scene(bake, args.overrides)
     check_textures(scene)  # a damaged texture is bad input, said before any work
-    model = build_model(scene.cloth, scene.behavior)
-    if len(bake.positions(bake.frames[0])) != model.num_particles:
-        raise UsageError(f"{args.scene}: its cloth has {len(bake.positions(bake.frames[0]))} "
-                         f"points, its recorded scene makes {model.num_particles}")
+    model = bake_model(bake, scene)
     kind = out.suffix.lower()
     frames = bake.frames[:args.frames] if args.frames else bake.frames
     if kind == ".png":
@@ -62,7 +60,7 @@ def run_replay(args, out: Path, size: tuple[int, int],
     try:
         with Interrupt() as interrupt:
             if kind != ".png":
-                video = VideoWriter(out, args.fps, size)
+                video = VideoWriter(out, args.fps or bake.frame_rate, size)
             for frame in frames:
                 if interrupt.signum is not None:
                     break

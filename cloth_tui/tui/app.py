@@ -466,8 +466,10 @@ class ClothApp(App):
         self.shutdown()
 
 
-def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
-    """Create the captures folder (exit 2 if impossible), run the app, return its exit code.
+def run_app(scene: Scene, captures_dir: Path, *, app_class: type[ClothApp] = ClothApp,
+            **kwargs: Any) -> int:
+    """Create the captures folder (exit 2 if impossible), run the app (or a subclass, e.g.
+    the replay app, given its own keyword arguments), return its exit code.
     An exception that ended the app is raised again here, once the terminal is restored."""
     captures_dir = Path(captures_dir)
     try:
@@ -479,7 +481,7 @@ def run_app(scene: Scene, captures_dir: Path, **kwargs: Any) -> int:
                               f"{e.strerror or e}"), file=sys.stderr)
         return 2
     kwargs.setdefault("freeze_gc", True)  # process-wide, so only for the real app, not tests
-    app = ClothApp(scene, captures_dir, **kwargs)
+    app = app_class(scene, captures_dir, **kwargs)
     app.run()
     if app.crash is not None:
         raise app.crash  # the terminal is restored: cli.main logs it and prints one line

@@ -79,3 +79,17 @@ def test_a_usd_file_that_is_no_bake_is_refused_exit_2(tmp_path, capsys):
         assert main(["render", str(path), "-o", str(tmp_path / "x.png")]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and str(path.name) in err
+
+
+def test_a_video_plays_at_the_bakes_own_frame_rate_unless_fps_is_given(tmp_path):
+    import imageio.v2 as iio
+
+    bake24 = tmp_path / "b24.usdc"
+    assert main(["bake", "default", "-o", str(bake24), "--frames", "4",
+                 "--set", "cloth.resolution=5", "--set", "behavior.frame_rate=24"]) == 0
+    own, given = tmp_path / "own.mp4", tmp_path / "given.mp4"
+    assert main(["render", str(bake24), "-o", str(own), "--size", "64x48"]) == 0
+    assert main(["render", str(bake24), "-o", str(given), "--size", "64x48", "--fps", "10"]) == 0
+    for path, fps in ((own, 24.0), (given, 10.0)):
+        with iio.get_reader(str(path)) as reader:
+            assert reader.get_meta_data()["fps"] == pytest.approx(fps)
