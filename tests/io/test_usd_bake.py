@@ -198,12 +198,3 @@ def test_saves_thin_out_when_they_grow_slow(tmp_path, monkeypatch):
     assert saves[0] == 1.0  # the first after SAVE_INTERVAL_S
     assert all(b - a >= 2.0 + 2.0 / usd_bake.SAVE_SHARE for a, b in zip(saves, saves[1:]))
     assert len(saves) >= 2
-
-
-def test_the_app_says_it_does_not_play_a_bake_exit_2(tmp_path, capsys):
-    bake = tmp_path / "s.usdc"
-    assert main(["bake", "sphere", "-o", str(bake), "--frames", "2",
-                 "--set", "cloth.resolution=4"]) == 0
-    assert main([str(bake)]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "cloth-tui render" in err

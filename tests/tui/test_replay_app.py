@@ -149,3 +149,13 @@ def test_without_usd_core_the_app_says_which_extra_exit_2(tmp_path, bake_path, c
     assert main([str(bake_path), "--captures", str(tmp_path / "caps")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "cloth-tui[usd]" in err
+
+
+def test_the_command_line_opens_a_bake_in_the_replay_app(tmp_path, bake_path, monkeypatch):
+    opened = []
+    monkeypatch.setattr(ReplayApp, "run", lambda self: opened.append(self))
+    assert main([str(bake_path), "--set", "appearance.wireframe=false",
+                 "--captures", str(tmp_path / "caps")]) == 0
+    (app,) = opened
+    assert isinstance(app, ReplayApp) and app.player.count == FRAMES
+    assert app.scene.appearance.wireframe is False and app.start_paused is False
