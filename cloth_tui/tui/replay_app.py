@@ -62,14 +62,15 @@ class ReplayApp(ClothApp, inherit_bindings=False):
 
     def _tick(self) -> None:
         if self.player.advance(time.monotonic()):
-            self._show_frame()
+            self._show_frame(status=False)  # the status line follows 5 times a second
 
-    def _show_frame(self) -> None:
+    def _show_frame(self, status: bool = True) -> None:
         snap = self.player.snapshot()
         if self.renderer is not None:
             self.renderer.submit(snap)
         self.timeline.show(self.player.index)
-        self._refresh_status()
+        if status:
+            self._refresh_status()
 
     # -- timeline -------------------------------------------------------------------------
     def on_timeline_seek(self, message: Timeline.Seek) -> None:
