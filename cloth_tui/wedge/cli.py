@@ -120,10 +120,11 @@ def run_wedge(args) -> int:
     with Interrupt() as interrupt:
         progress.show(0)
         with Engine(workers, args.scheduler) as engine:
+            startup = time.perf_counter() - started
             results = engine.run(run_cell, [(c.scene, frames, thumb, args.video) for c in cells],
                                  on_done, stop=lambda: interrupt.signum is not None)
+            elapsed = time.perf_counter() - started  # to the last result, with the start-up
         progress.end()
-        elapsed = time.perf_counter() - started
         write_sheet(out, varies, cells, results, thumb, frames, base.name, args.video)
     records = [run_record(c, r) for c, r in zip(cells, results)]
     done = sum(r["status"] == "done" for r in records)
@@ -133,13 +134,16 @@ def run_wedge(args) -> int:
                           "vary": {v.key: list(v.values) for v in varies},
                           "sheet": str(out), "complete": done == len(cells),
                           "workers": args.scheduler or workers, "elapsed_s": elapsed,
+                          "startup_s": startup,
                           "runs": records}))
     else:
         print(format_table(records, [v.key for v in varies]))
-        print(f"\n{done} of {len(cells)} runs in {elapsed:.1f} s; contact sheet written to {out}")
+        print(f"\n{done} of {len(cells)} runs in {elapsed:.1f} s ({startup:.1f} s of it starting "
+              f"the cluster); contact sheet written to {out}")
     if interrupt.signum is not None:
         print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of "
-                              f"{len(cells)} runs; partial sheet written to {out}"),
+                              f"{len(cells)} runs; {'partial ' if done < len(cells) else ''}"
+                              f"sheet written to {out}"),
               file=sys.stderr)
         return EXIT_BY_SIGNAL[interrupt.signum]
     if failed:
