@@ -19,6 +19,8 @@ from .engine import Engine, Failed, require_dask
 from .plan import plan, value_text
 
 VIDEO_FPS = 30
+# Every clip comes back to this process before the grid is encoded: bound what that holds.
+VIDEO_MAX_BYTES = 1 << 30
 MEASURES = ("max_stretch", "energy_drift", "penetration", "recoveries", "substeps_used",
             "halted", "finite", "wall_s", "task_s", "worker")
 
@@ -98,6 +100,10 @@ def run_wedge(args) -> int:
     base = apply_overrides(load(args.scene), args.overrides)
     varies, cells = plan(base, args.vary)
     frames = args.frames or default_frames(".mp4" if args.video else ".png", base)
+    if args.video and len(cells) * frames * thumb[0] * thumb[1] * 3 > VIDEO_MAX_BYTES:
+        raise UsageError(f"--video: {len(cells)} clips of {frames} frames at {thumb[0]}x"
+                         f"{thumb[1]} exceed {VIDEO_MAX_BYTES >> 20} MB held in memory; use "
+                         "fewer runs or --frames, or a smaller --size")
     require_dask()
     if not args.scheduler:  # local workers draw with this machine's GL: say now if it has none
         from ..render.probe import RendererUnavailable, require_renderer

@@ -117,6 +117,13 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, words):
     assert not (tmp_path / "w.png").exists()
 
 
+def test_a_video_wedge_too_big_to_hold_is_refused_up_front(tmp_path, capsys):
+    rc = main(["wedge", "default", "--vary", "forces.wind_strength=0,1,2,3", "--video",
+               "--frames", "2000", "--size", "640x480", "-o", str(tmp_path / "w.mp4")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "--video" in err and "MB" in err and err.count("\n") == 1
+
+
 def test_without_the_extra_the_line_names_it(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed → ImportError
     rc = main(["wedge", "default", "--vary", "scene.friction=0,1", "-o", str(tmp_path / "w.png")])
