@@ -131,21 +131,29 @@ def run_wedge(args) -> int:
                                  on_done, stop=lambda: interrupt.signum is not None)
             elapsed = time.perf_counter() - started  # to the last result, with the start-up
         progress.end()
-        write_sheet(out, varies, cells, results, thumb, frames, base.name, args.video)
+        from ..render.capture import CaptureError
+        try:
+            write_sheet(out, varies, cells, results, thumb, frames, base.name, args.video)
+            sheet_error = None
+        except CaptureError as e:  # the disk filled up meanwhile, say: the table still shows
+            sheet_error = str(e)
     records = [run_record(c, r) for c, r in zip(cells, results)]
     done = sum(r["status"] == "done" for r in records)
     failed = [r for r in records if r["status"] == "failed"]
     if args.json:
         print(json.dumps({"scene": base.name, "frames": frames,
                           "vary": {v.key: list(v.values) for v in varies},
-                          "sheet": str(out), "complete": done == len(cells),
-                          "workers": args.scheduler or workers, "elapsed_s": elapsed,
-                          "startup_s": startup,
-                          "runs": records}))
+                          "sheet": None if sheet_error else str(out),
+                          "complete": done == len(cells), "workers": args.scheduler or workers,
+                          "elapsed_s": elapsed, "startup_s": startup, "runs": records}))
     else:
         print(format_table(records, [v.key for v in varies]))
         print(f"\n{done} of {len(cells)} runs in {elapsed:.1f} s ({startup:.1f} s of it starting "
-              f"the cluster); contact sheet written to {out}")
+              f"the cluster); " + ("no contact sheet" if sheet_error else
+                                    f"contact sheet written to {out}"))
+    if sheet_error is not None:
+        print(escape_controls(f"cloth-tui: error: {sheet_error}"), file=sys.stderr)
+        return 1
     if interrupt.signum is not None:
         print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of "
                               f"{len(cells)} runs; {'partial ' if done < len(cells) else ''}"
