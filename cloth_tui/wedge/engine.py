@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import os
 import signal
 import threading
 from collections.abc import Callable, Sequence
@@ -74,10 +75,13 @@ class Engine:
                 raise UsageError(f"--scheduler {self.scheduler}: cannot connect: {first}") \
                     from None
             return self
+        # numba's parallel kernels (xpbd) share the cores among the workers, not each take all
+        numba_threads = max(1, (os.cpu_count() or 1) // self.workers)
         with _sigint_ignored():
             self.cluster = distributed.LocalCluster(
                 n_workers=self.workers, threads_per_worker=1, processes=True,
-                dashboard_address=None, silence_logs=logging.ERROR)
+                dashboard_address=None, silence_logs=logging.ERROR,
+                env={"NUMBA_NUM_THREADS": str(numba_threads)})
         self.client = distributed.Client(self.cluster)
         return self
 
