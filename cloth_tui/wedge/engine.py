@@ -80,7 +80,7 @@ class Engine:
         with _sigint_ignored():
             self.cluster = distributed.LocalCluster(
                 n_workers=self.workers, threads_per_worker=1, processes=True,
-                dashboard_address=None, silence_logs=logging.ERROR,
+                dashboard_address=None, silence_logs=logging.CRITICAL,
                 env={"NUMBA_NUM_THREADS": str(numba_threads)})
         self.client = distributed.Client(self.cluster)
         return self
