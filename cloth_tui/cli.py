@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .usage import UsageError, check_output_path
 
-COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "scenes")
+COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "wedge", "scenes")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -107,7 +107,31 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--json", action="store_true")
     p.add_argument("--quick", action="store_true", help="a smaller study (under a minute)")
     p.add_argument("--plot", metavar="OUT.png", help="draw the work-precision diagram")
+    _add_dask_args(p)
+
+    p = sub.add_parser("wedge", help="run SCENE over every combination of --vary values (on "
+                                     "Dask) into a labelled contact sheet and a table")
+    _add_scene_args(p)
+    p.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2,...",
+                   help="a key and its values, e.g. --vary scene.friction=0,0.5,1 (repeatable)")
+    p.add_argument("--frames", type=_positive_int, default=None,
+                   help="frames per run (default: 2 s of simulated time; with --video, 90)")
+    p.add_argument("-o", "--output", required=True, metavar="SHEET",
+                   help="SHEET.png (SHEET.mp4 with --video)")
+    p.add_argument("--size", default="320x240", metavar="WxH", help="size of each thumbnail")
+    p.add_argument("--video", action="store_true", help="each cell a clip: an MP4 grid")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    _add_dask_args(p)
     return app, cmd
+
+
+def _add_dask_args(p: argparse.ArgumentParser) -> None:
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                       help="run on a local Dask cluster of N worker processes "
+                            "(needs the [wedge] extra)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on an existing Dask cluster, e.g. tcp://host:8786")
 
 
 def cmd_scenes(args) -> int:
@@ -167,6 +191,11 @@ def cmd_bench(args) -> int:
 def cmd_accuracy(args) -> int:
     from .bench.accuracy_cli import run_accuracy
     return run_accuracy(args)
+
+
+def cmd_wedge(args) -> int:
+    from .wedge.cli import run_wedge
+    return run_wedge(args)
 
 
 def cmd_app(args) -> int:

@@ -17,6 +17,8 @@ FORBIDDEN = {
     "cloth_tui.render": ("textual",),
     # io writes files: no terminal, and GL only when an OBJ/PLY sequence asks for VTK's writers
     "cloth_tui.io": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
+    # wedges run on Dask and draw with render/: no terminal, and Dask only when a wedge runs
+    "cloth_tui.wedge": ("textual", "dask", "distributed"),
 }
 
 # Imports every module of the package, then lists the loaded top-level names it must not use.

@@ -301,67 +301,109 @@ def largest_stable_dt(cfg: StudyConfig, integrator: str, stiffness: float) -> di
     return {"dt": lo, "bracket": [lo, hi], "note": ""}
 
 
-def stability_map(cfg: StudyConfig) -> dict:
+def stability_calls(cfg: StudyConfig) -> list[tuple]:
+    """The stability map's runs: a bisection per (integrator, stiffness)."""
+    return [(largest_stable_dt, (cfg, integ, k))
+            for integ in INTEGRATORS for k in cfg.stability_stiffness]
+
+
+def stability_map(cfg: StudyConfig, limits: list | None = None) -> dict:
     """Largest stable timestep of each springs integrator at each of three stiffnesses,
     and ω0 = √(k/m) of each stiffness (m of an interior particle; edges have ½ of it and
     corners ¼): a limit dt·ω0 that stays the same across stiffnesses means the limit scales
-    as 1/√k."""
+    as 1/√k. `limits`: the results of stability_calls, if already run."""
+    limits = iter(limits if limits is not None else run_serially(stability_calls(cfg)))
     m = cfg.mass / (cfg.n - 1) ** 2  # an interior particle's (masses by area)
     out = {"t_end": cfg.stability_t_end, "range": list(cfg.stability_range),
            "stiffness": list(cfg.stability_stiffness), "methods": {}}
     for integ in INTEGRATORS:
-        out["methods"][integ] = {f"{k:g}": largest_stable_dt(cfg, integ, k)
-                                 for k in cfg.stability_stiffness}
+        out["methods"][integ] = {f"{k:g}": next(limits) for k in cfg.stability_stiffness}
     out["omega0"] = {f"{k:g}": math.sqrt(k / m) for k in cfg.stability_stiffness}
     return out
 
 
-def sag_study(cfg: StudyConfig) -> dict:
+def _centre(n: int) -> list[int]:
+    return [(n // 2 - 1) * n + n // 2 - 1, (n // 2 - 1) * n + n // 2,
+            (n // 2) * n + n // 2 - 1, (n // 2) * n + n // 2] if n % 2 == 0 else [(n * n) // 2]
+
+
+def sag_run(cfg: StudyConfig, solver: str, iterations: int) -> float:
+    """Settled sag of one sag-study run (m); `springs` is the converged comparison."""
+    dt = 1.0 / (60 * cfg.sag_substeps)
+    if solver == "springs":
+        sc = study_scene(cfg, "springs", "implicit_euler", dt, stiffness=1.0 / cfg.sag_compliance,
+                         damping=cfg.sag_damping, pinned="corners")
+    else:
+        sc = study_scene(cfg, solver, "verlet", dt, iterations, compliance=cfg.sag_compliance,
+                         damping=cfg.sag_damping, pinned="corners")
+    run = simulate(sc, study_model(sc, "corners"), cfg.sag_t_end)
+    return -float(run.x[_centre(cfg.n), 1].mean()) if run.stable else math.nan
+
+
+def sag_calls(cfg: StudyConfig) -> list[tuple]:
+    return [(sag_run, (cfg, solver, it)) for solver in ("pbd", "xpbd")
+            for it in cfg.sag_iterations] + [(sag_run, (cfg, "springs", 0))]
+
+
+def sag_study(cfg: StudyConfig, sags: list | None = None) -> dict:
     """Settled sag (drop of the centre) of the sheet pinned at its four corners, for pbd and
     xpbd at each of `sag_iterations`; damping `sag_damping` while settling for `sag_t_end`.
     xpbd uses compliance `sag_compliance` (stiffness 1/α); the springs solver with that
-    stiffness and implicit Euler gives the converged answer for comparison."""
-    n = cfg.n
-    c = [(n // 2 - 1) * n + n // 2 - 1, (n // 2 - 1) * n + n // 2,
-         (n // 2) * n + n // 2 - 1, (n // 2) * n + n // 2] if n % 2 == 0 else [(n * n) // 2]
-    dt = 1.0 / (60 * cfg.sag_substeps)
-    rows = {"pbd": {}, "xpbd": {}}
-    for solver in rows:
-        for it in cfg.sag_iterations:
-            sc = study_scene(cfg, solver, "verlet", dt, it, compliance=cfg.sag_compliance,
-                             damping=cfg.sag_damping, pinned="corners")
-            run = simulate(sc, study_model(sc, "corners"), cfg.sag_t_end)
-            rows[solver][str(it)] = -float(run.x[c, 1].mean()) if run.stable else math.nan
-    k = 1.0 / cfg.sag_compliance
-    sc = study_scene(cfg, "springs", "implicit_euler", dt, stiffness=k, damping=cfg.sag_damping,
-                     pinned="corners")
-    run = simulate(sc, study_model(sc, "corners"), cfg.sag_t_end)
+    stiffness and implicit Euler gives the converged answer for comparison. `sags`: the
+    results of sag_calls, if already run."""
+    sags = iter(sags if sags is not None else run_serially(sag_calls(cfg)))
+    rows = {solver: {str(it): next(sags) for it in cfg.sag_iterations}
+            for solver in ("pbd", "xpbd")}
     spread = {s: (max(v.values()) - min(v.values())) for s, v in rows.items()}
     return {"iterations": list(cfg.sag_iterations), "sag": rows,
             "spread": spread,
-            "springs_implicit_euler": -float(run.x[c, 1].mean()) if run.stable else math.nan,
-            "compliance": cfg.sag_compliance, "dt": dt, "t_end": cfg.sag_t_end,
-            "damping": cfg.sag_damping}
+            "springs_implicit_euler": next(sags),
+            "compliance": cfg.sag_compliance, "dt": 1.0 / (60 * cfg.sag_substeps),
+            "t_end": cfg.sag_t_end, "damping": cfg.sag_damping}
 
 
-def run_study(cfg: StudyConfig, progress=None) -> dict:
-    """The whole study: reference, work-precision points, orders, stability map, sag."""
+def run_serially(calls: list[tuple]) -> list:
+    return [fn(*args) for fn, args in calls]
+
+
+_warmed = False  # this process has compiled the kernels (a Dask worker keeps them warm)
+
+
+def warm_then(fn, *args):
+    """fn(*args) after compiling every method's kernels once per process, so that no timed
+    run pays for it: how a Dask worker runs the study's tasks."""
+    global _warmed
+    if not _warmed:
+        warm_up(StudyConfig())
+        _warmed = True
+    return fn(*args)
+
+
+def run_study(cfg: StudyConfig, progress=None, run_all=None) -> dict:
+    """The whole study: reference, work-precision points, orders, stability map, sag.
+    `run_all(calls)` runs a list of (function, args) and returns the results in order:
+    serially in this process by default, or as tasks on Dask (`accuracy --workers`); the
+    runs are independent, and each gives the same numbers wherever it runs."""
     say = progress or (lambda msg: None)
     t_start = time.perf_counter()
-    say("compiling kernels")
-    warm_up(cfg)
+    if run_all is None:
+        say("compiling kernels")
+        warm_up(cfg)
+        run_all = run_serially
     say(f"reference: rk4 at dt = {cfg.ref_dt:.3g} s")
-    ref = reference(cfg)
-    points = []
-    for integ in INTEGRATORS:
-        say(f"springs/{integ}")
-        for dt in cfg.ladders.get(integ, ()):
-            points.append(point(cfg, ref, integ, dt))
-    for solver in ("pbd", "xpbd"):
-        say(solver)
-        for it in cfg.pbd_iterations:
-            for dt in cfg.pbd_dts:
-                points.append(point(cfg, ref, solver, dt, it))
+    ref, = run_all([(reference, (cfg,))])
+    point_calls = [(point, (cfg, ref, integ, dt))
+                   for integ in INTEGRATORS for dt in cfg.ladders.get(integ, ())]
+    point_calls += [(point, (cfg, ref, solver, dt, it)) for solver in ("pbd", "xpbd")
+                    for it in cfg.pbd_iterations for dt in cfg.pbd_dts]
+    calls = point_calls + stability_calls(cfg) + sag_calls(cfg)
+    say(f"{len(point_calls)} work-precision points, stability map, sag study: "
+        f"{len(calls)} runs")
+    results = run_all(calls)
+    points = results[:len(point_calls)]
+    n_stab = len(stability_calls(cfg))
+    stab = stability_map(cfg, results[len(point_calls):len(point_calls) + n_stab])
+    sag = sag_study(cfg, results[len(point_calls) + n_stab:])
     floor = 10.0 * ref["error_estimate"] if math.isfinite(ref["error_estimate"]) else 0.0
     ceiling = 0.02 * cfg.size
     orders = {}
@@ -369,10 +411,6 @@ def run_study(cfg: StudyConfig, progress=None) -> dict:
         o = measured_order([p for p in points if p["method"] == integ], floor, ceiling)
         o["theory"] = ORDERS[integ]
         orders[integ] = o
-    say("stability map")
-    stab = stability_map(cfg)
-    say("sag study")
-    sag = sag_study(cfg)
     reference_out = {k: v for k, v in ref.items() if k != "x"}
     reference_out["error_floor"] = floor
     return {"scene": describe(cfg), "reference": reference_out, "points": points,

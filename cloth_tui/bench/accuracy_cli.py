@@ -1,6 +1,6 @@
-"""`cloth-tui accuracy [--quick] [--json] [--plot OUT.png]`: run the study of
-bench/accuracy.py and print it as tables, as one JSON object, and/or draw the
-work-precision diagram."""
+"""`cloth-tui accuracy [--quick] [--json] [--plot OUT.png] [--workers N | --scheduler ADDR]`:
+run the study of bench/accuracy.py (serially, or its runs as tasks on Dask) and print it as
+tables, as one JSON object, and/or draw the work-precision diagram."""
 
 from __future__ import annotations
 
@@ -51,7 +51,11 @@ def run_accuracy(args) -> int:
     cfg = accuracy.StudyConfig.quick() if args.quick else accuracy.StudyConfig.full()
     progress = None if args.json else (lambda msg: print(f"… {msg}", file=sys.stderr,
                                                         flush=True))
-    result = accuracy.run_study(cfg, progress)
+    workers, scheduler = getattr(args, "workers", None), getattr(args, "scheduler", None)
+    if workers or scheduler:
+        result = _run_on_dask(cfg, progress, workers or 1, scheduler)
+    else:
+        result = accuracy.run_study(cfg, progress)
     if plot is not None:
         plot_work_precision(result, plot)
     if args.json:
@@ -61,6 +65,24 @@ def run_accuracy(args) -> int:
         if plot is not None:
             print(f"\nwork-precision diagram written to {plot}")
     return 0
+
+
+def _run_on_dask(cfg, progress, workers: int, scheduler: str | None) -> dict:
+    """The same study with its runs as tasks on Dask (wedge.engine): the same results as the
+    serial run's, the timings measured on the workers."""
+    from ..interrupt import Progress
+    from ..wedge.engine import Engine, require_dask
+
+    require_dask("accuracy")
+    with Engine(workers, scheduler) as engine:
+        def run_all(calls):
+            bar = Progress(len(calls), progress is not None and sys.stderr.isatty(), "runs")
+            done = []
+            results = engine.map(accuracy.warm_then, [(fn, *a) for fn, a in calls],
+                                 lambda i, r: (done.append(i), bar.show(len(done))))
+            bar.end()
+            return results
+        return accuracy.run_study(cfg, progress, run_all)
 
 
 # --- text ------------------------------------------------------------------------------------

@@ -1,0 +1,158 @@
+"""`cloth-tui wedge`: the runs' numbers are `simulate`'s, the sheet is written (also partly,
+after Ctrl+C), bad input is one line and exit 2."""
+
+import json
+import os
+import pty
+import select
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from cloth_tui.cli import main
+
+pytest.importorskip("distributed")
+
+TINY = ["--set", "cloth.resolution=8", "--size", "64x48"]
+
+
+def run(*args, timeout=300):
+    p = subprocess.run([sys.executable, "-m", "cloth_tui", *args], capture_output=True,
+                       text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def test_wedge_json_gives_each_run_the_numbers_simulate_gives(tmp_path):
+    out = tmp_path / "w.png"
+    rc, text, err = run("wedge", "default", *TINY, "--vary", "forces.wind=true",
+                        "--vary", "forces.wind_strength=2,8", "--frames", "12", "-o", str(out),
+                        "--json", "--workers", "1")
+    assert rc == 0, err
+    r = json.loads(text)
+    assert r["complete"] and r["frames"] == 12 and len(r["runs"]) == 2
+    assert r["vary"] == {"forces.wind": [True], "forces.wind_strength": [2.0, 8.0]}
+    for run_ in r["runs"]:
+        for k in ("max_stretch", "energy_drift", "penetration", "recoveries", "substeps_used",
+                  "wall_s"):
+            assert run_[k] is not None
+        rc, s, err = run("simulate", "default", "--set", "cloth.resolution=8", "--set",
+                         "forces.wind=true", "--set",
+                         f"forces.wind_strength={run_['values']['forces.wind_strength']}",
+                         "--frames", "12", "--json")
+        sim = json.loads(s)
+        assert run_["max_stretch"] == sim["max_stretch"]
+        assert run_["substeps_used"] == sim["substeps_used"]
+    assert r["runs"][0]["max_stretch"] != r["runs"][1]["max_stretch"]
+    import imageio.v3 as iio
+    img = iio.imread(out)
+    assert img.shape[1] > 2 * 64 and img.shape[0] > 48  # two thumbnails side by side, labels
+    assert not list(tmp_path.glob("*.tmp*"))
+
+
+def test_wedge_video_is_an_mp4_grid_with_sides_multiple_of_16(tmp_path):
+    import imageio_ffmpeg
+    out = tmp_path / "w.mp4"
+    rc, text, err = run("wedge", "default", *TINY, "--vary", "scene.friction=0,1",
+                        "--frames", "6", "--video", "-o", str(out), "--workers", "1")
+    assert rc == 0, err
+    assert "2 of 2 runs" in text
+    reader = imageio_ffmpeg.read_frames(str(out))
+    meta = next(reader)
+    w, h = meta["size"]
+    assert w % 16 == 0 and h % 16 == 0
+    assert sum(1 for _ in reader) == 6
+
+
+def test_ctrl_c_keeps_the_runs_done_and_writes_the_partial_sheet(tmp_path):
+    """SIGINT to the command (workers untouched) once progress shows a finished run."""
+    out = tmp_path / "w.png"
+    master, slave = pty.openpty()  # stderr a terminal: the progress bar is shown
+    p = subprocess.Popen([sys.executable, "-m", "cloth_tui", "wedge", "default", *TINY,
+                          "--vary", "forces.wind_strength=0,1,2,3,4,5,6,7", "--frames", "150",
+                          "-o", str(out), "--json", "--workers", "1"],
+                         stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    seen, deadline = b"", time.monotonic() + 240
+    while b"1/8" not in seen and time.monotonic() < deadline and p.poll() is None:
+        if select.select([master], [], [], 1.0)[0]:
+            try:
+                seen += os.read(master, 4096)
+            except OSError:
+                break
+    assert b"1/8" in seen, seen
+    p.send_signal(signal.SIGINT)
+    text, _ = p.communicate(timeout=120)
+    while select.select([master], [], [], 0.2)[0]:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(master)
+    assert p.returncode == 130, seen
+    r = json.loads(text)
+    status = [x["status"] for x in r["runs"]]
+    assert not r["complete"] and "done" in status and "cancelled" in status
+    assert out.exists()
+    assert b"partial sheet written" in seen and b"Traceback" not in seen
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--vary", "forces.wind_strength=2,x"], "forces.wind_strength"),
+    (["--vary", "nope.key=1"], "unknown key"),
+    (["--vary", "scene.friction=0,1", "--video"], "use a .mp4"),
+    (["--vary", "scene.friction=0,1", "--workers", "2", "--scheduler", "tcp://x:1"],
+     "not allowed with"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, words):
+    rc = main(["wedge", "default", "-o", str(tmp_path / "w.png"), *argv])
+    err = capsys.readouterr().err
+    assert rc == 2 and words in err and err.count("\n") == 1
+    assert not (tmp_path / "w.png").exists()
+
+
+def test_a_video_wedge_too_big_to_hold_is_refused_up_front(tmp_path, capsys):
+    rc = main(["wedge", "default", "--vary", "forces.wind_strength=0,1,2,3", "--video",
+               "--frames", "2000", "--size", "640x480", "-o", str(tmp_path / "w.mp4")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "--video" in err and "MB" in err and err.count("\n") == 1
+
+
+def test_without_the_extra_the_line_names_it(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed → ImportError
+    rc = main(["wedge", "default", "--vary", "scene.friction=0,1", "-o", str(tmp_path / "w.png")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "[wedge]" in err and err.count("\n") == 1
+    rc = main(["accuracy", "--quick", "--workers", "2"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "[wedge]" in err
+
+
+def test_an_unreachable_scheduler_is_one_line(tmp_path, capsys):
+    rc = main(["wedge", "default", *TINY, "--vary", "scene.friction=0,1", "-o",
+               str(tmp_path / "w.png"), "--scheduler", "tcp://127.0.0.1:9"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "cannot connect" in err and err.count("\n") == 1
+
+
+def test_help_loads_no_dask():
+    code = "import sys, cloth_tui.cli as c; c.build_parsers(); print('distributed' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.stdout.strip() == "False", out.stderr
+
+
+def test_table_lists_every_run_with_its_status():
+    from cloth_tui.wedge.cli import format_table
+    rows = [{"values": {"scene.friction": 0.0}, "status": "done", "max_stretch": 0.012,
+             "energy_drift": -0.5, "penetration": 0.0, "recoveries": 1, "substeps_used": 8,
+             "wall_s": 0.25, "halted": None},
+            {"values": {"scene.friction": 1.0}, "status": "cancelled"}]
+    text = format_table(rows, ["scene.friction"]).splitlines()
+    assert len(text) == 3 and "1.20" in text[1] and "cancelled" in text[2]
+    assert np.all([len(line) == len(text[0]) for line in text])
