@@ -5,9 +5,13 @@ The model's constraints do not change; the state keeps which are intact (`state.
 skips a broken constraint (xpbd.py, springs.py, implicit.py), the measures leave it out
 (measures.py), and the renderer drops the triangles that lost an edge (`intact_triangles`).
 
-Break criterion, checked once per substep after the constraint solve:
+Break criterion, checked once per substep after the constraint solve, in tension only:
 
-    |L/L0 − 1| > tear_stretch   →   alive = 0
+    L/L0 − 1 > tear_stretch   →   alive = 0
+
+(compared squared, L² > ((1 + tear_stretch) L0)², with no square root). Compression breaks
+nothing: a fold squeezes a bending constraint to nearly zero length, and cloth does not tear
+where it folds.
 
 A cut (the app's right-drag) breaks every constraint whose segment, in the sheet's material
 coordinates (row i, column j), crosses the cut's segment. Nothing is ever mended within a run:
@@ -34,6 +38,7 @@ def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
     """alive[e] = 0 for every intact constraint stretched beyond tear_stretch; returns how
     many broke. A NaN length breaks nothing here: the runner's guard sees the NaN state."""
     broken = 0
+    limit = (1.0 + tear_stretch) * (1.0 + tear_stretch)
     for e in range(edges.shape[0]):
         if not alive[e]:
             continue
@@ -42,7 +47,7 @@ def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
         dx = x[b, 0] - x[a, 0]
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
-        if abs(math.sqrt(dx * dx + dy * dy + dz * dz) / rest[e] - 1.0) > tear_stretch:
+        if dx * dx + dy * dy + dz * dz > limit * rest[e] * rest[e]:
             alive[e] = 0
             broken += 1
     return broken

@@ -163,3 +163,14 @@ def test_stretch_skips_torn_constraints():
     e = model.edges
     alive[(e[:, 0] == 0) | (e[:, 1] == 0)] = 0
     assert stretch(model, x, alive)[0] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_compression_breaks_nothing():
+    """Cloth tears in tension only: a fold squeezes constraints without harm."""
+    s = Scene()
+    model = build_model(s.cloth, s.behavior)
+    state = ClothState.from_model(model)
+    state.x[0, 0] += 0.6 * model.spacing  # 60 % shorter than rest towards particle 1
+    assert tearing.break_overstretched_constraints(state.x, model.edges, model.rest_length,
+                                                   state.alive, 0.3) == 0
+    assert state.alive.all()
