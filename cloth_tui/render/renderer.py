@@ -188,7 +188,8 @@ class Renderer:
 
     def _show_tears(self, snapshot, positions: np.ndarray) -> None:
         """Drop the triangles (and wireframe edges) that lost a constraint to a tear, so that
-        a torn edge shows as a gap. Cells are rebuilt only when the torn count changes."""
+        a torn edge shows as a gap, and the torn constraints' lines. Cells are rebuilt only
+        when the torn count changes."""
         alive = snapshot.alive
         torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
         shown = self._faces_shown
@@ -206,9 +207,13 @@ class Renderer:
         self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
         edges = triangle_edges(tri) if len(tri) else np.zeros((0, 2), np.int64)
         self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+        keep = np.ones(model.num_constraints, bool) if not torn else alive.astype(bool)
+        kept = np.asarray(model.edges, np.int64)[keep]
+        self.lines.lines = np.c_[np.full(len(kept), 2, np.int64), kept].ravel()
+        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family)[keep])
         self.cloth.point_data["Normals"][:] = vertex_normals(positions, tri)
         self.cloth.point_data["Normals"].VTKObject.Modified()
-        for mesh in (self.cloth, self.wire):
+        for mesh in (self.cloth, self.wire, self.lines):
             mesh.Modified()
 
     def _good_positions(self, snapshot) -> np.ndarray:

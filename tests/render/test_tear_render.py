@@ -32,6 +32,9 @@ def test_a_cut_removes_a_row_of_faces_and_shows_a_gap(renderer):
     img_torn = renderer.render(torn)
     assert renderer.cloth.n_cells == 2 * (n - 1) ** 2 - 2 * (n - 1)
     assert renderer.wire.n_lines < 3 * (n - 1) ** 2 + 2 * (n - 1)
+    # the constraint lines (show_constraints) lose the torn constraints
+    assert renderer.lines.n_lines == int(torn.alive.sum()) < whole.model.num_constraints
+    assert renderer.lines.cell_data["rgb"].shape[0] == renderer.lines.n_lines
     # the gap: fewer cloth pixels, the background or ground showing through
     assert red_pixels(img_torn) < red_pixels(img_whole) - 20
     # a healed sheet (a restart: no torn constraints) has every face back
