@@ -174,3 +174,20 @@ def test_compression_breaks_nothing():
     assert tearing.break_overstretched_constraints(state.x, model.edges, model.rest_length,
                                                    state.alive, 0.3) == 0
     assert state.alive.all()
+
+
+def test_a_torn_sheet_still_collides_with_objects_and_itself():
+    """Torn pieces fall onto a sphere and the floor with self-collision on: no penetration,
+    finite, and the broken sheet keeps its mass."""
+    s = pulled(True, "pbd", 300.0)
+    s.scene.floor = True
+    s.cloth.height = 0.6
+    s.scene.object = "sphere"
+    s.behavior.self_collision = "hash"
+    sim = run(s, frames=60)
+    st = sim.stats()
+    assert st["torn"] > 0 and st["finite"]
+    assert "collide_sphere" in st["effects"] and "self_collision_hash" in st["effects"]
+    assert st["penetration"] <= s.scene.thickness + 1e-3
+    assert st["min_y"] >= s.scene.floor_height - 1e-3
+    assert sim.model.mass.sum() == pytest.approx(s.cloth.mass)

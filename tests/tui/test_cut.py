@@ -1,5 +1,12 @@
 """The knife: a right-drag over the preview cuts the cloth; `torn` rises; restart heals."""
 
+import time
+
+import pytest
+
+from cloth_tui.scene import Scene
+from cloth_tui.tui.app import ClothApp, default_renderer_factory
+
 from .conftest import SIZE, make_app, run, until
 
 
@@ -36,4 +43,32 @@ def test_right_drag_cuts_the_cloth_and_restart_heals(tmp_path):
             await pilot.press("r")
             await until(pilot, lambda: torn(app) == 0, what="healed")
             assert app.sim.latest.alive is None
+    run(go())
+
+
+def test_the_knife_cuts_through_the_real_renderer_and_the_picture_loses_faces(tmp_path):
+    """With the real RenderService (skipped without GL): a right-drag across the crosshair
+    (the sheet's middle) cuts, and the drawn mesh loses the cut cells."""
+    pytest.importorskip("cloth_tui.render.service")
+
+    async def go():
+        app = ClothApp(Scene(), tmp_path / "caps", renderer_factory=default_renderer_factory,
+                       start_paused=True)
+        async with app.run_test(size=SIZE) as pilot:
+            deadline = time.monotonic() + 20
+            while app.preview.frames_shown == 0:
+                if app.renderer is None or getattr(app.renderer, "error", None):
+                    pytest.skip("renderer unavailable")
+                assert time.monotonic() < deadline, "no frame from the renderer"
+                await pilot.pause(0.05)
+            await until(pilot, lambda: app._crosshair_placed, timeout=10)
+            full = app.renderer._renderer.cloth.n_cells
+            cx, cy = app.preview._cell(app.preview.crosshair)
+            await pilot.mouse_down("#preview", offset=(cx - 12, cy), button=3)
+            for x in range(cx - 11, cx + 13):
+                await pilot.hover("#preview", offset=(x, cy))
+            await pilot.mouse_up("#preview", offset=(cx + 12, cy))
+            await until(pilot, lambda: torn(app) > 0, what="torn > 0")
+            await until(pilot, lambda: app.renderer._renderer.cloth.n_cells < full,
+                        timeout=10, what="faces dropped")
     run(go())
