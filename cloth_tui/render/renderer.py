@@ -63,6 +63,7 @@ class Renderer:
         self.lines = self.lines_actor = None
         self._model = None
         self._faces_shown: tuple | None = None  # (cloth mesh, torn count) the faces are for
+        self._tri_constraints: np.ndarray | None = None  # each triangle's edges' constraints
         self._positions: np.ndarray | None = None  # last finite positions drawn
         self._pick_state: tuple | None = None      # (world→clip matrix, positions)
         self._scene = None

@@ -18,10 +18,10 @@ from . import pipeline
 from .measures import (constraint_error, elastic_energy, energy, gravitational_energy,
                        kinetic_energy, max_stretch, stretch)
 from .model import ClothModel, build_model, uses_tethers
-from .tearing import cut_between
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
+from .tearing import cut_between
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
