@@ -191,3 +191,32 @@ def test_a_torn_sheet_still_collides_with_objects_and_itself():
     assert st["penetration"] <= s.scene.thickness + 1e-3
     assert st["min_y"] >= s.scene.floor_height - 1e-3
     assert sim.model.mass.sum() == pytest.approx(s.cloth.mass)
+
+
+def test_serial_and_parallel_projection_skip_the_same_torn_constraints():
+    from cloth_tui.sim import xpbd
+    s = Scene()
+    s.cloth.resolution = 40
+    m = build_model(s.cloth, s.behavior)
+    rng = np.random.default_rng(2)
+    x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
+    alive = (rng.random(m.num_constraints) > 0.3).astype(np.uint8)
+    for alpha_t in (0.0, 50.0):
+        a, b = x0.copy(), x0.copy()
+        lam_a, lam_b = np.zeros(m.num_constraints), np.zeros(m.num_constraints)
+        xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive,
+                                 m.color_offsets, lam_a, alpha_t, 3)
+        xpbd.project_constraints_parallel(b, m.inv_mass, m.edges, m.rest_length, alive,
+                                          m.color_offsets, lam_b, alpha_t, 3)
+        np.testing.assert_allclose(a, b, atol=1e-12)
+        np.testing.assert_allclose(lam_a, lam_b, atol=1e-12)
+        assert (lam_a[alive == 0] == 0.0).all()
+    # a particle whose every constraint is torn is left where it was
+    e, mid = m.edges, 20 * 40 + 20  # a free particle
+    alive[:] = 1
+    alive[(e[:, 0] == mid) | (e[:, 1] == mid)] = 0
+    a = x0.copy()
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive, m.color_offsets,
+                             np.zeros(m.num_constraints), 0.0, 3)
+    np.testing.assert_array_equal(a[mid], x0[mid])
+    assert np.abs(a[mid + 1] - x0[mid + 1]).max() > 0.0
