@@ -39,6 +39,19 @@ def test_simulate_json_reports_the_tolerance_and_what_it_took():
     assert rc == 0 and s["substeps_used"] == 1 and s["tolerance_met"] is False
 
 
+def test_simulate_json_reports_torn_constraints():
+    rc, out, err = run("simulate", "tear", "--frames", "120", "--json")
+    assert rc == 0, err
+    s = json.loads(out)
+    assert s["torn"] > 0 and s["finite"] and "tear_constraints" in s["effects"]
+    rc, out, err = run("simulate", "tear", "--frames", "120", "--json", "--set",
+                       "behavior.tear=false")
+    s = json.loads(out)
+    assert rc == 0 and s["torn"] == 0 and "tear_constraints" not in s["effects"]
+    rc, out, err = run("simulate", "tear", "--set", "behavior.tear_stretch=0")
+    assert rc == 2 and "tear_stretch" in err and len(err.strip().splitlines()) == 1
+
+
 def test_unpinned_sheet_comes_to_rest_on_floor():
     rc, out, err = run("simulate", "default", "--set", "cloth.pinned=none", "--frames", "300",
                        "--json")

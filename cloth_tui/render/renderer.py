@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals,
@@ -61,6 +62,8 @@ class Renderer:
         self.cloth = self.cloth_actor = self.wire = self.wire_actor = None
         self.lines = self.lines_actor = None
         self._model = None
+        self._faces_shown: tuple | None = None  # (cloth mesh, torn count) the faces are for
+        self._tri_constraints: np.ndarray | None = None  # each triangle's edges' constraints
         self._positions: np.ndarray | None = None  # last finite positions drawn
         self._pick_state: tuple | None = None      # (world→clip matrix, positions)
         self._scene = None
@@ -184,6 +187,36 @@ class Renderer:
         for mesh in (self.cloth, self.wire, self.lines):
             mesh.Modified()
 
+    def _show_tears(self, snapshot, positions: np.ndarray) -> None:
+        """Drop the triangles (and wireframe edges) that lost a constraint to a tear, so that
+        a torn edge shows as a gap, and the torn constraints' lines. Cells are rebuilt only
+        when the torn count changes."""
+        alive = snapshot.alive
+        torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
+        shown = self._faces_shown
+        if shown is not None and shown[0] is self.cloth and shown[1] == torn:
+            return
+        self._faces_shown = (self.cloth, torn)
+        if shown is None or shown[0] is not self.cloth:
+            self._tri_constraints = triangle_constraints(snapshot.model)
+            if not torn:
+                return  # a fresh mesh has every face
+        model = snapshot.model
+        tri = (np.asarray(model.triangles, np.int64) if not torn
+               else intact_triangles(model, alive, self._tri_constraints))
+        self._tri = tri
+        self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
+        edges = triangle_edges(tri) if len(tri) else np.zeros((0, 2), np.int64)
+        self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+        keep = np.ones(model.num_constraints, bool) if not torn else alive.astype(bool)
+        kept = np.asarray(model.edges, np.int64)[keep]
+        self.lines.lines = np.c_[np.full(len(kept), 2, np.int64), kept].ravel()
+        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family)[keep])
+        self.cloth.point_data["Normals"][:] = vertex_normals(positions, tri)
+        self.cloth.point_data["Normals"].VTKObject.Modified()
+        for mesh in (self.cloth, self.wire, self.lines):
+            mesh.Modified()
+
     def _good_positions(self, snapshot) -> np.ndarray:
         """The snapshot's positions if all finite (and sane); otherwise the last good ones (or the rest
         shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
@@ -247,6 +280,7 @@ class Renderer:
             self._build_cloth(snapshot.model, positions)
         else:
             self._update_cloth(positions)
+        self._show_tears(snapshot, positions)
         self._positions = positions
         self.objects.update(snapshot.objects)
         if self._scene.appearance.auto_rotate:

@@ -21,8 +21,9 @@ CG_MAX_ITERATIONS = 400    # cap per substep; a stiff, large sheet may stop here
 
 
 @kernel()
-def _spring_jacobian(x, edges, rest, dirs, tension):
-    """Per spring: unit direction n and the clamped transverse factor max(0, 1 − L0/L)."""
+def _spring_jacobian(x, edges, rest, alive, dirs, tension):
+    """Per spring: unit direction n and the clamped transverse factor max(0, 1 − L0/L). A torn
+    or degenerate spring gets n = 0, s = 0: its block of the system vanishes."""
     for e in range(edges.shape[0]):
         a = edges[e, 0]
         b = edges[e, 1]
@@ -30,7 +31,7 @@ def _spring_jacobian(x, edges, rest, dirs, tension):
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         L = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if L < DEGENERATE_LENGTH:
+        if L < DEGENERATE_LENGTH or not alive[e]:
             dirs[e, 0] = 0.0
             dirs[e, 1] = 0.0
             dirs[e, 2] = 0.0
@@ -84,12 +85,12 @@ def _apply_system(p, y, edges, dirs, tension, diag_mass, free, ck, cd):
 
 
 @kernel()
-def solve_implicit_euler(x, v, accel, mass, free, edges, rest, k, kd, drag, h,
+def solve_implicit_euler(x, v, accel, mass, free, edges, rest, alive, k, kd, drag, h,
                          dirs, tension, dv, r, z, p, q, diag, tol, max_iter):
     """Linearised backward Euler: solve (M − h²K − hD) Δv = h (f + h K v) for Δv by
     Jacobi-preconditioned CG, then v += Δv, x += h v. Returns the CG iterations used."""
     n = x.shape[0]
-    _spring_jacobian(x, edges, rest, dirs, tension)
+    _spring_jacobian(x, edges, rest, alive, dirs, tension)
     ck = h * h * k
     cd = h * kd
     dm = 1.0 + h * drag

@@ -1,7 +1,8 @@
 """What is reported about a state: stretch and energy, for the runner, the app and the
 accuracy study alike.
 
-Stretch of a constraint is |L/L0 − 1|. Energy is kinetic + gravitational (height from y = 0)
+Stretch of a constraint is |L/L0 − 1|. Torn constraints (state.alive == 0, tearing.py) are
+left out of every measure: they hold no energy and their length is a gap, not a stretch. Energy is kinetic + gravitational (height from y = 0)
 + elastic, the elastic part from the solver's own force estimate:
 
     springs  ½ k (L − L0)² per spring (the force the integrator uses)
@@ -40,11 +41,13 @@ def edge_length(x, edges, e) -> float:
 
 
 @kernel(fastmath=False)
-def max_stretch(x, edges, rest) -> float:
-    """max |L/L0 − 1| over the constraints; NaN if any length is NaN. One pass, no temporary
-    arrays: cheap enough to run after every frame for the substep controller."""
+def max_stretch(x, edges, rest, alive) -> float:
+    """max |L/L0 − 1| over the intact constraints; NaN if any length is NaN. One pass, no
+    temporary arrays: cheap enough to run after every frame for the substep controller."""
     worst = 0.0
     for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
         s = abs(edge_length(x, edges, e) / rest[e] - 1.0)
         if s != s:
             return s
@@ -54,20 +57,24 @@ def max_stretch(x, edges, rest) -> float:
 
 
 @kernel(fastmath=False)
-def spring_energy(x, edges, rest, k) -> float:
-    """Σ ½ k (L − L0)² over the constraints, J."""
+def spring_energy(x, edges, rest, alive, k) -> float:
+    """Σ ½ k (L − L0)² over the intact constraints, J."""
     total = 0.0
     for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
         c = edge_length(x, edges, e) - rest[e]
         total += 0.5 * k * c * c
     return total
 
 
 @kernel(fastmath=False)
-def xpbd_residual(x, edges, rest, lambdas, alpha_tilde) -> float:
-    """max |C + α̃λ| over the constraints, m (0 when the compliant solve converged)."""
+def xpbd_residual(x, edges, rest, alive, lambdas, alpha_tilde) -> float:
+    """max |C + α̃λ| over the intact constraints, m (0 when the compliant solve converged)."""
     worst = 0.0
     for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
         # λ is accumulated with C = L0 − L in the projection (xpbd.py), hence the signs
         r = abs(rest[e] - edge_length(x, edges, e) - alpha_tilde * lambdas[e])
         if r > worst:
@@ -75,13 +82,18 @@ def xpbd_residual(x, edges, rest, lambdas, alpha_tilde) -> float:
     return worst
 
 
-def stretch(model: ClothModel, x: np.ndarray) -> tuple[float, float]:
-    """Max and mean of |L/L0 − 1| over the enabled constraints."""
-    if not model.num_constraints:
+def stretch(model: ClothModel, x: np.ndarray, alive: np.ndarray | None = None
+            ) -> tuple[float, float]:
+    """Max and mean of |L/L0 − 1| over the enabled constraints still intact (all of them
+    when `alive` is None)."""
+    e, rest = model.edges, model.rest_length
+    if alive is not None and not alive.all():
+        keep = alive.astype(bool)
+        e, rest = e[keep], rest[keep]
+    if not len(e):
         return 0.0, 0.0
-    e = model.edges
     d = x[e[:, 0]] - x[e[:, 1]]
-    r = np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / model.rest_length - 1.0)
+    r = np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / rest - 1.0)
     return float(r.max()), float(r.mean())
 
 
@@ -106,7 +118,8 @@ def elastic_energy(model: ClothModel, state: ClothState, scene: Scene,
     if not model.num_constraints:
         return 0.0
     if b.solver == "springs":
-        return float(spring_energy(state.x, model.edges, model.rest_length, b.stiffness))
+        return float(spring_energy(state.x, model.edges, model.rest_length, state.alive,
+                                   b.stiffness))
     if b.solver == "xpbd" and lambdas is not None and h > 0.0:
         f = lambdas / (h * h)
         return 0.5 * b.compliance * float(np.dot(f, f))
@@ -128,4 +141,5 @@ def constraint_error(model: ClothModel, state: ClothState, scene: Scene,
             or not model.num_constraints:
         return None
     alpha_tilde = scene.behavior.compliance / (h * h)
-    return float(xpbd_residual(state.x, model.edges, model.rest_length, lambdas, alpha_tilde))
+    return float(xpbd_residual(state.x, model.edges, model.rest_length, state.alive, lambdas,
+                               alpha_tilde))

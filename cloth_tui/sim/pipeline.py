@@ -7,6 +7,7 @@ The order of a substep's stages lives here and only here (`assemble`):
     enforce_tethers         (if the model has tethers)
     solver.constraints()    the constraint projection (none for springs), then
     resolve_contacts        re-projection of what the constraints pulled into an object
+    tear_constraints        (behavior.tear) overstretched constraints break (tearing.py)
     contact_friction        Coulomb friction on the contacts' whole substep motion
     apply_pins
     solver.velocities()
@@ -21,7 +22,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..scene import Scene
-from . import colliders, forces, impulses, mesh_collider, selfcollision, solvers, springs
+from . import (colliders, forces, impulses, mesh_collider, selfcollision, solvers, springs,
+               tearing)
 from .model import ClothModel
 from .protocols import Collider, Effect, ForceEffect, Solver
 from .stages import ApplyPins, EnforceTethers
@@ -69,7 +71,7 @@ def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[F
 
 
 def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider],
-             contact_effects: list[Effect]) -> list[Effect]:
+             contact_effects: list[Effect], tear: Effect | None = None) -> list[Effect]:
     """The substep's stages, in order (see the module's docstring)."""
     effects = list(solver.integrate())
     effects += contact_effects
@@ -82,6 +84,8 @@ def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider]
         effects += constraints
         if collider_effects:
             effects.append(colliders.ResolveContacts(collider_effects))
+    if tear is not None:
+        effects.append(tear)  # on the solved lengths: what the solve could not hold breaks
     if collider_effects:
         # on the substep's whole motion, constraints included (see colliders.py)
         effects.append(colliders.ContactFriction(collider_effects))
@@ -102,6 +106,8 @@ def build(scene: Scene, model: ClothModel, substeps: int | None = None) -> Step:
     collider_effects = (colliders.build_colliders(scene, model)
                         + mesh_collider.build_mesh_colliders(scene, model))
     contact_effects = collider_effects + selfcollision.build_self_collision(scene, model)
-    effects = assemble(solver, model, collider_effects, contact_effects)
+    tear = (tearing.TearConstraints(model, b.tear_stretch)
+            if b.tear and model.num_constraints else None)
+    effects = assemble(solver, model, collider_effects, contact_effects, tear)
     return Step(model, effects, n_sub, h, colliders=collider_effects,
                 frame_effects=impulses.build_impulses(scene, model), solver=solver)

@@ -21,6 +21,7 @@ from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
+from .tearing import cut_between
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
@@ -74,6 +75,7 @@ class Snapshot:
     model: ClothModel
     scene: Scene
     objects: tuple = ()  # ObjectPose of every object, where it is at time t
+    alive: np.ndarray | None = None  # which constraints are intact; None: all (nothing torn)
 
 
 class Simulation:
@@ -169,7 +171,7 @@ class Simulation:
         if not self.control.adaptive or not self.model.num_constraints:
             return None
         self.frame_stretch = float(max_stretch(self.state.x, self.model.edges,
-                                               self.model.rest_length))
+                                               self.model.rest_length, self.state.alive))
         return self.control.redo_with(self.frame_stretch)
 
     def _watch_energy(self) -> bool:
@@ -200,7 +202,7 @@ class Simulation:
         # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
         # An explicit integrator going unstable shows first as stretch (its speeds are clamped).
         if integrator_for(b) != "implicit_euler" and \
-                stretch(self.model, self.state.x)[0] > SPRING_DIVERGED:
+                stretch(self.model, self.state.x, self.state.alive)[0] > SPRING_DIVERGED:
             return False
         if e0 is not None:
             e_start, scale = e0
@@ -236,6 +238,14 @@ class Simulation:
         self.state.x[idx] += w[:, None] * d
         self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
 
+    def cut(self, p0: int, p1: int) -> int:
+        """Cut the sheet between two particles (tearing.cut_between); returns how many
+        constraints were cut. A restart heals the sheet."""
+        n = self.model.num_particles
+        if not (0 <= int(p0) < n and 0 <= int(p1) < n):
+            return 0
+        return cut_between(self.model, self.state, int(p0), int(p1))
+
     # -- reporting ------------------------------------------------------------------------
     def _lambdas(self) -> np.ndarray | None:
         """The xpbd multipliers of the last substep (the solver's force estimate)."""
@@ -252,6 +262,7 @@ class Simulation:
         return {
             "frames": self.frames,
             "steps": self.state.steps,
+            "torn": self.state.torn,                        # constraints broken (tearing.py)
             "t": self.state.t,
             "recoveries": self.recoveries,
             "halted": self.halted,
@@ -266,7 +277,8 @@ class Simulation:
     def stats(self) -> dict:
         x = self.state.x
         finite = self.state.is_finite()
-        max_s, mean_s = stretch(self.model, x) if finite else (float("nan"),) * 2
+        max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
+                         else (float("nan"),) * 2)
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
         lambdas = self._lambdas()
         out = {
@@ -293,8 +305,9 @@ class Simulation:
         by this frame's cheap ones."""
         stats = self.stats() if stats is None else stats | self.frame_stats()
         poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
+        alive = self.state.alive.copy() if self.state.torn else None
         return Snapshot(self.state.x.copy(), self.frames, self.state.t, stats,
-                        self.model, self.scene, poses)
+                        self.model, self.scene, poses, alive)
 
 
 class SimulationThread:

@@ -62,9 +62,11 @@ def drag_rate(damping: float) -> float:
 # --- kernels ----------------------------------------------------------------------------------
 
 @kernel()
-def add_spring_accel(x, v, edges, rest, inv_mass, k, kd, drag, out):
-    """out += (spring forces)/m − drag·v for every free particle."""
+def add_spring_accel(x, v, edges, rest, alive, inv_mass, k, kd, drag, out):
+    """out += (spring forces)/m − drag·v for every free particle; torn springs pull no more."""
     for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
         a = edges[e, 0]
         b = edges[e, 1]
         dx = x[b, 0] - x[a, 0]
@@ -164,6 +166,7 @@ class IntegrateSprings:
         self._a = [z() for _ in range(4)]
         self._xs, self._vs, self._vt = z(), z(), z()
         self._free = np.asarray(model.inv_mass != 0.0)
+        self._alive = np.ones(model.num_constraints, np.uint8)  # the state's, set by apply
         if self.integrator == "implicit_euler":
             m = max(1, model.num_constraints)
             self._dirs = np.zeros((m, 3))
@@ -177,13 +180,14 @@ class IntegrateSprings:
         for f in self.forces:
             f(x, v, t, out)
         m = self.model
-        add_spring_accel(x, v, m.edges, m.rest_length, m.inv_mass, self.k, self.kd,
-                         self.drag, out)
+        add_spring_accel(x, v, m.edges, m.rest_length, self._alive, m.inv_mass, self.k,
+                         self.kd, self.drag, out)
         zero_rows(out, m.pinned)
         return out
 
     def apply(self, state, h):
         x, v, t = state.x, state.v, state.t
+        self._alive = state.alive
         for effect in self.kinematic:
             effect.apply(state, h)
         state.x_prev[...] = x
@@ -247,8 +251,8 @@ class IntegrateSprings:
         a = self.accel(x, v, t, self._a[0])
         r, z, p, q = self._cg
         self.cg_iterations = solve_implicit_euler(
-            x, v, a, m.mass, self._free, m.edges, m.rest_length, self.k, self.kd, self.drag,
-            h, self._dirs, self._tension, self.dv, r, z, p, q, self._a[1], CG_TOLERANCE,
+            x, v, a, m.mass, self._free, m.edges, m.rest_length, self._alive, self.k, self.kd,
+            self.drag, h, self._dirs, self._tension, self.dv, r, z, p, q, self._a[1], CG_TOLERANCE,
             CG_MAX_ITERATIONS)
 
 

@@ -52,6 +52,8 @@ class EnforceTethers:
         self.model = model
 
     def apply(self, state, h):
+        if state.torn:
+            return  # a tether bounds by the uncut sheet's geodesic, which a tear may cut
         m = self.model
         enforce_tethers(state.x, m.pinned, state.anchors, m.tether_pin, m.tether_length)
 

@@ -63,8 +63,10 @@ def _project_one(x, inv_mass, a, b, rest, lam, alpha_t):
 
 
 @kernel()
-def project_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, iterations):
-    """`iterations` passes of coloured Gauss-Seidel (edges are sorted by colour), serial.
+def project_constraints(x, inv_mass, edges, rest, alive, color_offsets, lam, alpha_t,
+                        iterations):
+    """`iterations` passes of coloured Gauss-Seidel (edges are sorted by colour), serial;
+    torn constraints (alive[e] == 0) are skipped.
     λ is reset here: it accumulates over the passes of one substep only. With α = 0 (PBD)
     λ does not enter the update and is not kept (lam stays 0, as the rigid limit has no
     elastic energy): its loads and stores cost ~15 % of the kernel's time."""
@@ -72,16 +74,18 @@ def project_constraints(x, inv_mass, edges, rest, color_offsets, lam, alpha_t, i
     for _ in range(iterations):
         if alpha_t == 0.0:
             for e in range(edges.shape[0]):
-                _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0, 0.0)
+                if alive[e]:
+                    _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0, 0.0)
         else:
             for e in range(edges.shape[0]):
-                lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
-                                       lam[e], alpha_t)
+                if alive[e]:
+                        lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
+                                           lam[e], alpha_t)
 
 
 @kernel(parallel=True)
-def project_constraints_parallel(x, inv_mass, edges, rest, color_offsets, lam, alpha_t,
-                                 iterations):
+def project_constraints_parallel(x, inv_mass, edges, rest, alive, color_offsets, lam,
+                                 alpha_t, iterations):
     """Same projection; the constraints of one colour share no particle, so each colour is
     split across threads without races."""
     lam[:] = 0.0
@@ -89,11 +93,14 @@ def project_constraints_parallel(x, inv_mass, edges, rest, color_offsets, lam, a
         for c in range(color_offsets.shape[0] - 1):
             if alpha_t == 0.0:
                 for e in prange(color_offsets[c], color_offsets[c + 1]):
-                    _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0, 0.0)
+                    if alive[e]:
+                        _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0,
+                                     0.0)
             else:
                 for e in prange(color_offsets[c], color_offsets[c + 1]):
-                    lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
-                                           lam[e], alpha_t)
+                    if alive[e]:
+                        lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1],
+                                               rest[e], lam[e], alpha_t)
 
 
 class ProjectConstraints:
@@ -130,7 +137,8 @@ class ProjectConstraints:
 
     def apply(self, state, h):
         m = self.model
-        args = (state.x, m.inv_mass, m.edges, m.rest_length, m.color_offsets, self.lambdas,
+        args = (state.x, m.inv_mass, m.edges, m.rest_length, state.alive, m.color_offsets,
+                self.lambdas,
                 self.alpha_t, self.iterations)
         if len(self.kernels) == 1:
             self.kernels[0](*args)

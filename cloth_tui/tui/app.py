@@ -71,6 +71,7 @@ class ClothApp(App):
         self._frame_box: Any = None
         self._frame_posted = False
         self._grabbed: int | None = None
+        self._cut_at: int | None = None  # the particle the knife (right-drag) last passed
         self._zoom = 1.0
         self._stopped = False
         self._crosshair_placed = False
@@ -266,6 +267,14 @@ class ClothApp(App):
 
     def on_preview_release(self, _: Preview.Release) -> None:
         self._grabbed = None
+
+    def on_preview_cut(self, message: Preview.Cut) -> None:
+        """Cut the cloth from the particle the knife last passed to the one under it now
+        (the renderer's last frame, NumPy only); off the sheet, the path starts anew."""
+        here = self.renderer.pick(message.u, message.v) if self.renderer else None
+        last, self._cut_at = (None if message.start else self._cut_at), here
+        if self.sim is not None and last is not None and here is not None and here != last:
+            self.sim.submit(lambda sim: sim.cut(last, here))
 
     def on_setting_field_edited(self, message: SettingField.Edited) -> None:
         dotted = message.dotted

@@ -161,6 +161,13 @@ class Preview(Widget):
     class Release(Message):
         """Mouse released after a grab."""
 
+    class Cut(Message):
+        """Right-drag (the knife) at image point (u, v); `start`: the drag begins here."""
+
+        def __init__(self, u: float, v: float, start: bool) -> None:
+            super().__init__()
+            self.u, self.v, self.start = u, v, start
+
     def __init__(self, *, id: str | None = None) -> None:
         super().__init__(id=id)
         self._styles = StyleCache()
@@ -170,6 +177,7 @@ class Preview(Widget):
         self.crosshair: tuple[float, float] = (0.5, 0.5)
         self.frames_shown = 0
         self._drag_from: tuple[float, float] | None = None
+        self._cutting = False  # the right button is down: moves cut instead of drag
         self._placeholder = "waiting for the renderer…"  # shown, centred, until an image
 
     def show_placeholder(self, text: str) -> None:
@@ -245,6 +253,8 @@ class Preview(Widget):
 
     def on_mouse_move(self, event: events.MouseMove) -> None:
         self.pointer = self._uv(event)
+        if self._cutting:
+            self.post_message(self.Cut(*self.pointer, start=False))
         if self._drag_from is not None:
             u, v = self.pointer
             du, dv = u - self._drag_from[0], v - self._drag_from[1]
@@ -257,11 +267,20 @@ class Preview(Widget):
             self.pointer = None
 
     def on_mouse_down(self, event: events.MouseDown) -> None:
+        if event.button == 3:  # right button: cut along the drag, do not grab
+            self.pointer = self._uv(event)
+            self._cutting = True
+            self.capture_mouse()
+            self.post_message(self.Cut(*self.pointer, start=True))
+            return
         self.pointer = self._drag_from = self._uv(event)
         self.capture_mouse()
         self.post_message(self.Grab(*self.pointer))
 
     def on_mouse_up(self, event: events.MouseUp) -> None:
+        if self._cutting:
+            self._cutting = False
+            self.release_mouse()
         if self._drag_from is not None:
             self._drag_from = None
             self.release_mouse()

@@ -110,6 +110,8 @@ class Readout:
             f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
             f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
         ]
+        if s.get("torn"):
+            parts.append(f"[b]{s['torn']} torn[/]")
         residual = s.get("constraint_error")
         if residual is not None and residual > CONSTRAINT_ERROR_SHOWN:
             parts.append(f"constraint error {1e3 * residual:.2f} mm")

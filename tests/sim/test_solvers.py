@@ -13,9 +13,11 @@ def test_parallel_projection_matches_serial():
     x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
     a, b = x0.copy(), x0.copy()
     lam = np.zeros(m.num_constraints)
-    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, m.color_offsets, lam, 0.0, 3)
-    xpbd.project_constraints_parallel(b, m.inv_mass, m.edges, m.rest_length, m.color_offsets,
-                                      lam, 0.0, 3)
+    alive = np.ones(m.num_constraints, np.uint8)
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive, m.color_offsets,
+                             lam, 0.0, 3)
+    xpbd.project_constraints_parallel(b, m.inv_mass, m.edges, m.rest_length, alive,
+                                      m.color_offsets, lam, 0.0, 3)
     np.testing.assert_allclose(a, b, atol=1e-12)
     assert np.abs(a - x0).max() > 1e-4
 

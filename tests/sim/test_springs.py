@@ -25,7 +25,7 @@ def oscillator(integrator, damping=0.0):
     b = SimpleNamespace(integrator=integrator, stiffness=K, spring_damping=damping, damping=0.0)
     x = np.array([[0.0, 0, 0], [L0 + AMP, 0, 0]])
     state = SimpleNamespace(x=x, x_prev=x.copy(), v=np.zeros((2, 3)), accel=np.zeros((2, 3)),
-                            t=0.0)
+                            alive=np.ones(1, np.uint8), t=0.0)
     return IntegrateSprings(model, b, []), state
 
 

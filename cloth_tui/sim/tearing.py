@@ -1,0 +1,145 @@
+"""Tearing: constraints that break, by overstretch or by a cut, and leave the solve for good.
+
+The model's constraints do not change; the state keeps which are intact (`state.alive`, 1 or
+0 per constraint in model.edges order) and how many are broken (`state.torn`). Every solver
+skips a broken constraint (xpbd.py, springs.py, implicit.py), the measures leave it out
+(measures.py), and the renderer drops the triangles that lost an edge (`intact_triangles`).
+
+Break criterion, checked once per substep after the constraint solve, in tension only:
+
+    L/L0 − 1 > tear_stretch   →   alive = 0
+
+(compared squared, L² > ((1 + tear_stretch) L0)², with no square root). Compression breaks
+nothing: a fold squeezes a bending constraint to nearly zero length, and cloth does not tear
+where it folds.
+
+A cut (the app's right-drag) breaks every constraint whose segment, in the sheet's material
+coordinates (row i, column j), crosses the cut's segment. Nothing is ever mended within a run:
+a restart builds a new state with every constraint intact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .jit import kernel
+from .model import ClothModel
+from .state import ClothState
+
+# A cut runs through the picked particles, nudged off the grid's lines by this (in spacings)
+# so that it never passes exactly through a particle, where it would cut ambiguously.
+CUT_OFFSET = (1.3e-3, 2.9e-3)
+
+
+@kernel()
+def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
+    """alive[e] = 0 for every intact constraint stretched beyond tear_stretch; returns how
+    many broke. A NaN length breaks nothing here: the runner's guard sees the NaN state."""
+    broken = 0
+    limit = (1.0 + tear_stretch) * (1.0 + tear_stretch)
+    for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
+        a = edges[e, 0]
+        b = edges[e, 1]
+        dx = x[b, 0] - x[a, 0]
+        dy = x[b, 1] - x[a, 1]
+        dz = x[b, 2] - x[a, 2]
+        if dx * dx + dy * dy + dz * dz > limit * rest[e] * rest[e]:
+            alive[e] = 0
+            broken += 1
+    return broken
+
+
+@kernel(inline="always")
+def _side(ax, ay, bx, by, px, py) -> float:
+    """> 0 when p is left of the line a→b, < 0 right of it (twice the signed area)."""
+    return (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+
+
+@kernel()
+def cut_constraints(edges, n, alive, i0, j0, i1, j1) -> int:
+    """alive[e] = 0 for every intact constraint whose segment in grid coordinates (i, j)
+    properly crosses the cut (i0, j0)–(i1, j1); returns how many were cut."""
+    cut = 0
+    for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
+        a = edges[e, 0]
+        b = edges[e, 1]
+        ai, aj = float(a // n), float(a % n)
+        bi, bj = float(b // n), float(b % n)
+        if (_side(i0, j0, i1, j1, ai, aj) * _side(i0, j0, i1, j1, bi, bj) < 0.0
+                and _side(ai, aj, bi, bj, i0, j0) * _side(ai, aj, bi, bj, i1, j1) < 0.0):
+            alive[e] = 0
+            cut += 1
+    return cut
+
+
+def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
+    """Cut the sheet along the material path from particle p0 to particle p1; returns the
+    constraints cut. The same particle twice cuts nothing."""
+    n = model.n
+    (i0, j0), (i1, j1) = divmod(int(p0), n), divmod(int(p1), n)
+    di, dj = float(i1 - i0), float(j1 - j0)
+    length = math.hypot(di, dj)
+    if length == 0.0 or not model.num_constraints:
+        return 0
+    # Half a spacing more at both ends: the cuts of one drag overlap, and a cut from a
+    # border particle reaches the border.
+    ext = 0.5 / length
+    oi, oj = CUT_OFFSET
+    count = int(cut_constraints(model.edges, n, state.alive,
+                                i0 + oi - ext * di, j0 + oj - ext * dj,
+                                i1 + oi + ext * di, j1 + oj + ext * dj))
+    state.torn += count
+    return count
+
+
+def triangle_constraints(model: ClothModel) -> np.ndarray:
+    """(T, 3) int64: for each of model.triangles' three edges, the index of the constraint
+    along it, or −1 where no constraint is (a family turned off)."""
+    n2 = model.num_particles
+    e = model.edges
+    keys = np.minimum(e[:, 0], e[:, 1]) * n2 + np.maximum(e[:, 0], e[:, 1])
+    order = np.argsort(keys)
+    sorted_keys = keys[order]
+    tri = model.triangles
+    out = np.full(tri.shape, -1, np.int64)
+    for k, (u, w) in enumerate(((0, 1), (1, 2), (2, 0))):
+        q = np.minimum(tri[:, u], tri[:, w]) * n2 + np.maximum(tri[:, u], tri[:, w])
+        pos = np.clip(np.searchsorted(sorted_keys, q), 0, max(len(keys) - 1, 0))
+        if len(keys):
+            hit = sorted_keys[pos] == q
+            out[hit, k] = order[pos[hit]]
+    return out
+
+
+def intact_triangles(model: ClothModel, alive: np.ndarray,
+                     edge_index: np.ndarray | None = None) -> np.ndarray:
+    """The model's triangles none of whose edges' constraints is torn: torn edges show as a
+    gap, not as a stretched face. `edge_index` is triangle_constraints(model), if at hand."""
+    idx = triangle_constraints(model) if edge_index is None else edge_index
+    ok = np.ones(len(idx), bool)
+    for k in range(3):
+        has = idx[:, k] >= 0
+        ok[has] &= alive[idx[has, k]].astype(bool)
+    return model.triangles[ok]
+
+
+class TearConstraints:
+    """The tearing stage: after the constraint solve, constraints stretched beyond
+    behavior.tear_stretch break (see the module's docstring)."""
+
+    name = "tear_constraints"
+
+    def __init__(self, model: ClothModel, tear_stretch: float):
+        self.model = model
+        self.tear_stretch = float(tear_stretch)
+
+    def apply(self, state: ClothState, h: float) -> None:
+        m = self.model
+        state.torn += int(break_overstretched_constraints(state.x, m.edges, m.rest_length,
+                                                          state.alive, self.tear_stretch))

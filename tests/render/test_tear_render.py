@@ -1,0 +1,55 @@
+"""A torn sheet is drawn with a gap: the triangles that lost an edge are gone."""
+
+import dataclasses
+
+import numpy as np
+
+from cloth_tui.sim.state import ClothState
+from cloth_tui.sim.tearing import cut_between
+
+from .helpers import draped, red_pixels, scene_with
+
+
+def torn_across(snap):
+    """The snapshot with the sheet cut along its middle row, edge to edge."""
+    model = snap.model
+    state = ClothState.from_model(model)
+    n = model.n
+    row = n // 2
+    assert cut_between(model, state, row * n, row * n + n - 1) > 0
+    return dataclasses.replace(snap, alive=state.alive.copy())
+
+
+def test_a_cut_removes_a_row_of_faces_and_shows_a_gap(renderer):
+    renderer.resize(160, 120)
+    whole = draped(scene_with(wireframe=False))
+    renderer.update_scene(whole.scene)
+    renderer.reset_camera()
+    img_whole = renderer.render(whole)
+    n = whole.model.n
+    assert renderer.cloth.n_cells == 2 * (n - 1) ** 2
+    torn = torn_across(whole)
+    img_torn = renderer.render(torn)
+    assert renderer.cloth.n_cells == 2 * (n - 1) ** 2 - 2 * (n - 1)
+    assert renderer.wire.n_lines < 3 * (n - 1) ** 2 + 2 * (n - 1)
+    # the constraint lines (show_constraints) lose the torn constraints
+    assert renderer.lines.n_lines == int(torn.alive.sum()) < whole.model.num_constraints
+    assert renderer.lines.cell_data["rgb"].shape[0] == renderer.lines.n_lines
+    # the gap: fewer cloth pixels, the background or ground showing through
+    assert red_pixels(img_torn) < red_pixels(img_whole) - 20
+    # a healed sheet (a restart: no torn constraints) has every face back
+    renderer.render(whole)
+    assert renderer.cloth.n_cells == 2 * (n - 1) ** 2
+    assert np.isfinite(renderer.cloth.point_data["Normals"]).all()
+
+
+def test_faces_are_rebuilt_only_when_the_torn_count_changes(renderer):
+    snap = torn_across(draped(scene_with(wireframe=False)))
+    renderer.render(snap)
+    stamp = renderer.cloth.GetPolys().GetMTime()
+    renderer.render(dataclasses.replace(snap, frame=snap.frame + 1))
+    assert renderer.cloth.GetPolys().GetMTime() == stamp
+    more = snap.alive.copy()
+    more[np.flatnonzero(more)[:40]] = 0
+    renderer.render(dataclasses.replace(snap, alive=more))
+    assert renderer.cloth.GetPolys().GetMTime() != stamp
