@@ -20,18 +20,19 @@ from .graphics.detect import Graphics
 from .graphics.encoder import Encoded, FrameEncoder, Job, codec_for
 from .preview import Preview
 
-MAX_PIXELS = 640 * 480 * 2  # render at most this many pixels (kitty scales to the cells)
+MAX_PIXELS = 640 * 480 * 2  # kitty: render at most this many pixels; it scales to the cells
 SIXEL_MAX_SIDE = 1000        # xterm's default sixel limit, each side
 
 
 def render_size(cols: int, rows: int, cell_px: tuple[int, int], mode: str) -> tuple[int, int]:
-    """Pixels to render for cols × rows cells: the cells' real pixel size, scaled down
-    (keeping the shape) to at most MAX_PIXELS, and for sixel to SIXEL_MAX_SIDE a side,
-    since sixel is shown unscaled. Even sides."""
+    """Pixels to render for cols × rows cells: the cells' real pixel size; for kitty scaled
+    down (keeping the shape) to at most MAX_PIXELS, for sixel, which is shown unscaled and
+    so must fill the cells itself, only to SIXEL_MAX_SIDE a side. Even sides."""
     w, h = cols * cell_px[0], rows * cell_px[1]
-    scale = min(1.0, math.sqrt(MAX_PIXELS / max(w * h, 1)))
     if mode == "sixel":
-        scale = min(scale, SIXEL_MAX_SIDE / max(w, h, 1))
+        scale = min(1.0, SIXEL_MAX_SIDE / max(w, h, 1))
+    else:
+        scale = min(1.0, math.sqrt(MAX_PIXELS / max(w * h, 1)))
     return max(2, int(w * scale) // 2 * 2), max(2, int(h * scale) // 2 * 2)
 
 

@@ -5,6 +5,8 @@ terminal that answers nothing delays start-up by the timeout at most and never h
 - kitty graphics `a=q`: a kitty-protocol terminal answers `ESC _ G i=ID;OK ESC \\` before DA1;
 - XTVERSION `CSI > 0 q`: the terminal's name and version (`ESC P >| kitty(0.26.5) ESC \\`);
 - `CSI 16 t`: the cell size in pixels (`CSI 6 ; height ; width t`);
+- DECRQSS of SGR after setting a direct background colour: a terminal that keeps 24-bit
+  colour reports `48:2::1:2:3` (or `48;2;1;2;3`) back, one that maps it to a palette does not;
 - primary DA `CSI c`: `CSI ? 6x ; … c`, where parameter 4 means sixel.
 The cell size falls back to TIOCGWINSZ's ws_xpixel/ws_ypixel. Inside tmux or screen there are
 no graphics (they would need pass-through), so nothing is asked and the mode is half-blocks.
@@ -30,6 +32,8 @@ _KITTY_OK = re.compile(rb"\x1b_Gi=%d;OK\x1b\\" % QUERY_ID)
 _DA1 = re.compile(rb"\x1b\[\?([0-9;]*)c")
 _CELL = re.compile(rb"\x1b\[6;(\d+);(\d+)t")
 _VERSION = re.compile(rb"\x1bP>\|([^\x1b]*)\x1b\\")
+_SGR_REPORT = re.compile(rb"\x1bP1\$r([0-9;:]*)m\x1b\\")
+_DIRECT_PROBE = re.compile(rb"48[:;]2[:;]+1[:;]2[:;]3(?![0-9])")
 
 
 @dataclass(frozen=True)
@@ -39,6 +43,7 @@ class Replies:
     attributes: tuple[int, ...] | None = None  # primary DA parameters
     cell_px: tuple[int, int] | None = None     # (width, height) from CSI 16 t
     version: str | None = None                 # XTVERSION, e.g. "kitty(0.26.5)"
+    direct_color: bool = False                 # kept a 24-bit colour (DECRQSS)
 
     @property
     def sixel(self) -> bool:
@@ -59,7 +64,9 @@ class Graphics:
         return self.mode if self.mode != "blocks" else f"blocks {self.colors}"
 
 
-QUERIES = (kitty.query(QUERY_ID) + "\x1b[>0q" + "\x1b[16t" + "\x1b[c").encode("ascii")
+DIRECT_COLOR_QUERY = "\x1b[48;2;1;2;3m\x1bP$qm\x1b\\\x1b[0m"
+QUERIES = (kitty.query(QUERY_ID) + "\x1b[>0q" + "\x1b[16t" + DIRECT_COLOR_QUERY + "\x1b[c"
+           ).encode("ascii")
 
 
 def parse_replies(data: bytes) -> Replies:
@@ -70,7 +77,8 @@ def parse_replies(data: bytes) -> Replies:
         kitty=bool(_KITTY_OK.search(data)),
         attributes=tuple(int(p) for p in da.group(1).split(b";") if p) if da else None,
         cell_px=(int(cell.group(2)), int(cell.group(1))) if cell else None,
-        version=version.group(1).decode("utf-8", "replace") if version else None)
+        version=version.group(1).decode("utf-8", "replace") if version else None,
+        direct_color=any(_DIRECT_PROBE.search(m.group(1)) for m in _SGR_REPORT.finditer(data)))
 
 
 def ask_terminal(fd_in: int, fd_out: int, timeout: float = QUERY_TIMEOUT_S) -> Replies:
@@ -149,7 +157,7 @@ def color_depth(env: Mapping[str, str], replies: Replies = Replies(),
     term = env.get("TERM", "").lower()
     program = env.get("TERM_PROGRAM", "").lower()
     name = (replies.version or "").lower()
-    if replies.kitty or "direct" in term or any(
+    if replies.kitty or replies.direct_color or "direct" in term or any(
             n in s for n in _TRUECOLOR_NAMES for s in (term, program, name)):
         return "truecolor"
     if "256" in term or (terminfo_colors or 0) >= 256:

@@ -32,12 +32,6 @@ def xterm_256() -> np.ndarray:
     return np.array(system + cube + greys, dtype=np.uint8)
 
 
-def cube_and_greys() -> np.ndarray:
-    """(240, 3): the 216-colour cube and the 24 greys, the part of the 256 colours every
-    terminal shows alike (the first 16 follow the user's theme)."""
-    return xterm_256()[16:]
-
-
 @lru_cache(maxsize=8)
 def _nearest_table(palette_bytes: bytes) -> np.ndarray:
     palette = np.frombuffer(palette_bytes, dtype=np.uint8).reshape(-1, 3).astype(np.float32)
@@ -75,8 +69,30 @@ def dither_indices(image: np.ndarray, palette: np.ndarray, amplitude: float | No
     return table[q[..., 0], q[..., 1], q[..., 2]]
 
 
+def cube() -> np.ndarray:
+    """(216, 3): the 6×6×6 cube alone, index 36·r + 6·g + b."""
+    return xterm_256()[16:232]
+
+
+def dither_cube_indices(image: np.ndarray) -> np.ndarray:
+    """Index into `cube()` of each pixel, dithered per channel between the two cube levels
+    around its value (the cube's steps are uneven: 0→95 is the widest), so that each 4×4
+    patch keeps the input's mean channel by channel."""
+    h, w = image.shape[:2]
+    levels = np.array(CUBE_LEVELS, dtype=np.float32)
+    v = image[..., :3].astype(np.float32)
+    low = np.clip(np.searchsorted(levels, v, side="right") - 1, 0, len(levels) - 2)
+    frac = (v - levels[low]) / (levels[low + 1] - levels[low])
+    threshold = np.tile(BAYER4 + 0.5, ((h + 3) // 4, (w + 3) // 4))[:h, :w, None]
+    q = low + (frac > threshold)
+    return (36 * q[..., 0] + 6 * q[..., 1] + q[..., 2]).astype(np.uint8)
+
+
 def dither_rgb(image: np.ndarray, palette: np.ndarray) -> np.ndarray:
-    """The image dithered to the palette's own colours, (H, W, 3) uint8."""
+    """The image dithered to the palette's own colours, (H, W, 3) uint8; the cube gets its
+    own per-channel dither."""
+    if palette.shape == (216, 3) and np.array_equal(palette, cube()):
+        return palette[dither_cube_indices(image)]
     return palette[dither_indices(image, palette)]
 
 
@@ -87,18 +103,9 @@ def rich_standard() -> np.ndarray:
     return np.array([tuple(STANDARD_PALETTE[i]) for i in range(16)], dtype=np.uint8)
 
 
-@lru_cache(maxsize=1)
-def rich_256() -> np.ndarray:
-    """The cube and greys less the 13 near-grey cube colours that Rich's 256-colour
-    downgrade sends to the grey ramp instead: what is left reaches the terminal as chosen."""
-    from rich.color import Color, ColorSystem
-    palette = cube_and_greys()
-    keep = [i for i, rgb in enumerate(palette.tolist())
-            if Color.from_rgb(*rgb).downgrade(ColorSystem.EIGHT_BIT).number == 16 + i]
-    return palette[keep]
-
-
 def palette_for(colors: str) -> np.ndarray | None:
     """The palette to dither half-blocks to for a colour depth ('truecolor', '256', '16'):
     None for truecolor (nothing to do)."""
-    return {"256": rich_256, "16": rich_standard}.get(colors, lambda: None)()
+    # 256: the cube (Rich's downgrade sends 4 near-grey cube colours to the nearest grey of
+    # the ramp instead, a close colour).
+    return {"256": cube, "16": rich_standard}.get(colors, lambda: None)()

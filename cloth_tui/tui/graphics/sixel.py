@@ -1,8 +1,8 @@
 """A NumPy sixel encoder: an RGB frame → one DCS string (`ESC P q … ESC \\`).
 
-Palette: the fixed 216-colour cube and 24 greys (240 registers, below xterm's and VT340
-emulations' 256 and the same for every frame, so nothing needs choosing per frame), with a 4×4
-ordered dither so the cloth's shading reads as a gradient and not as bands.
+Palette: the fixed 6×6×6 colour cube (216 registers, below xterm's and VT340 emulations'
+256, the same for every frame, so nothing is chosen per frame), with a 4×4 ordered dither per
+channel so the cloth's shading reads as a gradient and not as bands.
 
 Layout (the DEC spec): bands six pixels high; in a band each colour in use is one row of
 characters `63 + bits` (bit k = pixel row k of the band), `$` returns to the band's start for
@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .palette import cube_and_greys, dither_indices
+from .palette import cube, dither_cube_indices, dither_indices
 
 DCS = "\x1bP"
 ST = "\x1b\\"
 BAND = 6
 _BIT = np.array([1, 2, 4, 8, 16, 32], dtype=np.int64)
-PALETTE = cube_and_greys()
+PALETTE = cube()
 
 
 def palette_definitions(palette: np.ndarray) -> str:
@@ -84,7 +84,8 @@ def _run_length(rows: np.ndarray) -> list[bytes]:
 def encode(image: np.ndarray, palette: np.ndarray = PALETTE) -> str:
     """The (H, W, 3) uint8 image as a complete sixel sequence, drawn at the cursor."""
     h, w = image.shape[:2]
-    indices = dither_indices(image, palette)
+    indices = (dither_cube_indices(image) if palette is PALETTE
+               else dither_indices(image, palette))
     rows, keys = _colour_rows(indices)
     encoded = _run_length(rows)
     parts = [f'{DCS}0;1;0q"1;1;{w};{h}', palette_definitions(palette)]
