@@ -52,6 +52,18 @@ class PixelPreview(Preview):
 
     def on_mount(self) -> None:  # Preview.on_mount runs after this one (Textual walks the MRO)
         self.encoder.start()
+        self.app.screen_change_signal.subscribe(self, self._on_screen_change)
+
+    def _on_screen_change(self, screen) -> None:
+        """A screen over the preview (help, command palette): take the picture away, as it
+        is drawn over text; back on the preview's screen: draw the last frame again (a
+        paused simulation sends no new one)."""
+        if screen is not self.screen:
+            if self._shown_on_terminal:
+                self._write(self.encoder.codec.clear())
+                self._shown_on_terminal = False
+        else:
+            self._rebuild()
 
     def on_unmount(self) -> None:
         self.encoder.stop()

@@ -95,3 +95,33 @@ def test_half_blocks_are_dithered_to_the_cube_when_the_terminal_has_256_colours(
             assert all(set(c) <= levels for c in colours)
             assert len(colours) > 20
     run(go())
+
+
+def test_a_screen_over_the_preview_takes_the_kitty_picture_away_and_back(tmp_path):
+    from textual.screen import ModalScreen
+    from textual.widgets import Static
+
+    class Cover(ModalScreen):
+        def compose(self):
+            yield Static("over the preview")
+
+    written: list[str] = []
+
+    async def go():
+        app = make_app(tmp_path, graphics=Graphics("kitty", (9, 20), "truecolor"))
+        async with app.run_test(size=SIZE) as pilot:
+            driver = app._driver
+            original = driver.write
+            driver.write = lambda data: (written.append(data), original(data))
+            preview = app.preview
+            await until(pilot, lambda: preview.frames_written >= 1, what="a frame")
+            before = preview.frames_written
+            written.clear()
+            app.push_screen(Cover())
+            await pilot.pause(0.3)
+            deletes = [d for d in written if "a=d" in d]
+            assert deletes and not any("a=p" in d for d in written)  # paused: no new frame
+            app.pop_screen()
+            await until(pilot, lambda: preview.frames_written > before, what="drawn again")
+            assert any("a=p" in d for d in written[written.index(deletes[-1]):])
+    run(go())
