@@ -74,18 +74,27 @@ def cube() -> np.ndarray:
     return xterm_256()[16:232]
 
 
+@lru_cache(maxsize=1)
+def _cube_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each of the 16 Bayer thresholds and each channel value, the cube level it
+    dithers to, premultiplied by 36, 6 and 1 for the red, green and blue parts of the index."""
+    levels = np.array(CUBE_LEVELS, dtype=np.float64)
+    v = np.arange(256, dtype=np.float64)
+    low = np.clip(np.searchsorted(levels, v, side="right") - 1, 0, len(levels) - 2)
+    frac = (v - levels[low]) / (levels[low + 1] - levels[low])
+    thresholds = (BAYER4.ravel().astype(np.float64) + 0.5)[:, None]
+    level = (low[None, :] + (frac[None, :] > thresholds)).astype(np.uint8)  # (16, 256)
+    return 36 * level, 6 * level, level
+
+
 def dither_cube_indices(image: np.ndarray) -> np.ndarray:
     """Index into `cube()` of each pixel, dithered per channel between the two cube levels
     around its value (the cube's steps are uneven: 0→95 is the widest), so that each 4×4
-    patch keeps the input's mean channel by channel."""
+    patch keeps the input's mean channel by channel. Table look-ups only."""
     h, w = image.shape[:2]
-    levels = np.array(CUBE_LEVELS, dtype=np.float32)
-    v = image[..., :3].astype(np.float32)
-    low = np.clip(np.searchsorted(levels, v, side="right") - 1, 0, len(levels) - 2)
-    frac = (v - levels[low]) / (levels[low + 1] - levels[low])
-    threshold = np.tile(BAYER4 + 0.5, ((h + 3) // 4, (w + 3) // 4))[:h, :w, None]
-    q = low + (frac > threshold)
-    return (36 * q[..., 0] + 6 * q[..., 1] + q[..., 2]).astype(np.uint8)
+    red, green, blue = _cube_tables()
+    cell = (np.arange(h)[:, None] % 4) * 4 + np.arange(w)[None, :] % 4  # Bayer entry
+    return (red[cell, image[..., 0]] + green[cell, image[..., 1]] + blue[cell, image[..., 2]])
 
 
 def dither_rgb(image: np.ndarray, palette: np.ndarray) -> np.ndarray:

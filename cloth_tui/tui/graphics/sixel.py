@@ -31,19 +31,24 @@ def palette_definitions(palette: np.ndarray) -> str:
 
 def _colour_rows(indices: np.ndarray) -> tuple[np.ndarray, list[tuple[int, int]]]:
     """Sixel bit rows: (R, W) uint8 in 0..63, one row per (band, colour used in it), and the
-    (band, colour) of each row, bands in order."""
+    (band, colour) of each row, bands in order. One pass over the whole image: a table of
+    which colours each band uses numbers the rows, and one bincount sums each pixel's bit
+    into its row (a band row has one colour per pixel, so the sum is the OR)."""
     h, w = indices.shape
-    rows, keys = [], []
-    for band, y in enumerate(range(0, h, BAND)):
-        block = indices[y:y + BAND].astype(np.int64)
-        k = block.shape[0]
-        used, inverse = np.unique(block, return_inverse=True)
-        slot = inverse.reshape(k, w) * w + np.arange(w)
-        bits = np.bincount(slot.ravel(), weights=np.repeat(_BIT[:k], w),
-                           minlength=len(used) * w)
-        rows.append(bits.reshape(len(used), w).astype(np.uint8))
-        keys.extend((band, int(c)) for c in used)
-    return np.concatenate(rows), keys
+    bands = (h + BAND - 1) // BAND
+    y = np.arange(h)
+    band_of = np.repeat(y // BAND, w).reshape(h, w)
+    colour = indices.astype(np.intp)
+    used = np.zeros((bands, 256), dtype=bool)
+    used[band_of, colour] = True
+    row_of = np.cumsum(used.ravel()).reshape(bands, 256) - 1
+    n_rows = int(used.sum())
+    slot = row_of[band_of, colour] * w + np.arange(w)
+    bit = np.broadcast_to(_BIT[y % BAND][:, None], (h, w))
+    rows = np.bincount(slot.ravel(), weights=bit.ravel(), minlength=n_rows * w)
+    band_idx, colour_idx = np.nonzero(used)
+    return rows.reshape(n_rows, w).astype(np.uint8), list(zip(band_idx.tolist(),
+                                                              colour_idx.tolist()))
 
 
 def _run_length(rows: np.ndarray) -> list[bytes]:
@@ -53,10 +58,10 @@ def _run_length(rows: np.ndarray) -> list[bytes]:
     starts = np.ones(flat.size, dtype=bool)
     starts[1:] = flat[1:] != flat[:-1]
     starts[::w] = True  # a run never crosses rows
-    begin = np.flatnonzero(starts)
-    length = np.diff(np.append(begin, flat.size))
+    begin = np.flatnonzero(starts).astype(np.int32)
+    length = np.diff(np.append(begin, np.int32(flat.size)))
     char = flat[begin] + 63
-    digits = np.floor(np.log10(np.maximum(length, 1))).astype(np.int64) + 1
+    digits = 1 + (length >= 10).astype(np.int32) + (length >= 100) + (length >= 1000)
     long_run = length > 3
     size = np.where(long_run, digits + 2, length)  # "!" digits char  |  char × length
     end = np.cumsum(size)
