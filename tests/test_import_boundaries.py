@@ -17,6 +17,8 @@ FORBIDDEN = {
     "cloth_tui.render": ("textual",),
     # io writes files: no terminal, and GL only when an OBJ/PLY sequence asks for VTK's writers
     "cloth_tui.io": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
+    # the terminal-graphics encoders and detection are pure: testable without an app
+    "cloth_tui.tui.graphics": ("textual", "pyvista", "vtk", "vtkmodules"),
 }
 
 # Imports every module of the package, then lists the loaded top-level names it must not use.
