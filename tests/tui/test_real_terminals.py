@@ -90,6 +90,13 @@ def picture_measures(shot: np.ndarray, box) -> tuple[int, float, np.ndarray]:
     return colours, rich / max(total, 1), area
 
 
+def ui_ms(log: Path) -> float:
+    """Median time the UI thread spent handing a frame to the preview (the debug log's)."""
+    values = [float(line.split("ui_ms ")[1]) for line in log.read_text().splitlines()
+              if "ui_ms " in line]
+    return float(np.median(values)) if values else float("nan")
+
+
 def frame_times(log: Path) -> list[float]:
     if not log.exists():
         return []
@@ -140,7 +147,7 @@ def test_true_pixels_in_a_real_terminal(display, tmp_path, mode):
     colours, rich_cells, area1 = picture_measures(first, box)
     _, _, area2 = picture_measures(second, box)
     changed = (np.abs(area1.astype(int) - area2.astype(int)).max(axis=-1) > 16).mean()
-    print(f"{mode}: {fps:.1f} frames/s shown, {colours} colours, {rich_cells:.0%} cells with "
+    print(f"{mode}: {fps:.1f} frames/s shown (UI {ui_ms(log):.2f} ms a frame), {colours} colours, {rich_cells:.0%} cells with "
           f"detail, {changed:.0%} of the preview changed; {tmp_path}")
     assert colours >= 20, "the preview area holds no picture"
     assert rich_cells > 0.3, "no detail finer than a cell"
