@@ -74,16 +74,34 @@ class PixelPreview(Preview):
         first = self._image is None
         self._image = image
         self.frames_shown += 1
-        cols, rows = self.size.width, self.size.height
-        if cols > 0 and rows > 0:
-            self.encoder.offer(Job(image, cols, rows, self.crosshair))
+        self._rebuild()
         if first:
             self.refresh()  # the placeholder text goes
 
     def _rebuild(self) -> None:
-        if self._image is not None and self.size.width > 0:
-            self.encoder.offer(Job(self._image, self.size.width, self.size.height,
-                                   self.crosshair))
+        job = self._job()
+        if job is not None:
+            self.encoder.offer(job)
+
+    def _job(self) -> Job | None:
+        """The newest image for the encoder, cut above any notice over the preview: the
+        picture is drawn over text, and would hide it."""
+        cols, rows = self.size.width, self.size.height
+        if self._image is None or cols <= 0 or rows <= 0:
+            return None
+        shown = rows
+        me = self.region
+        for toast in self.screen.query("Toast"):
+            if toast.region.overlaps(me):
+                shown = min(shown, toast.region.y - me.y)
+        if shown <= 0:
+            return None
+        image = self._image
+        u, v = self.crosshair
+        if shown < rows:
+            image = image[:max(1, image.shape[0] * shown // rows)]
+            v = v * rows / shown
+        return Job(image, cols, shown, (u, v))
 
     # -- encoded frames (posted from the encoding thread) -----------------------------------
     def _on_encoded(self, encoded: Encoded) -> None:
@@ -104,7 +122,7 @@ class PixelPreview(Preview):
                 self._shown_on_terminal = False
             return
         region = self.content_region
-        if (encoded.cols, encoded.rows) != (region.width, region.height):
+        if encoded.cols != region.width or encoded.rows > region.height:
             return  # made for a size the preview no longer has: the next one fits
         # Save the cursor, go to the top-left cell, draw, restore: Textual's idea of the
         # cursor stays right.

@@ -125,3 +125,30 @@ def test_a_screen_over_the_preview_takes_the_kitty_picture_away_and_back(tmp_pat
             await until(pilot, lambda: preview.frames_written > before, what="drawn again")
             assert any("a=p" in d for d in written[written.index(deletes[-1]):])
     run(go())
+
+
+def test_the_picture_stops_above_a_notice_over_the_preview(tmp_path):
+    written: list[str] = []
+
+    async def go():
+        app = make_app(tmp_path, graphics=Graphics("kitty", (9, 20), "truecolor"))
+        async with app.run_test(size=SIZE, notifications=True) as pilot:
+            driver = app._driver
+            original = driver.write
+            driver.write = lambda data: (written.append(data), original(data))
+            preview = app.preview
+            await until(pilot, lambda: preview.frames_written >= 1, what="a frame")
+            await pilot.press("c")  # controls hidden: the preview spans the screen
+            await pilot.pause(0.3)
+            rows = preview.size.height
+            app.notify("a notice that must stay readable", timeout=30)
+            await pilot.pause(0.3)
+            toast = app.screen.query_one("Toast")
+            assert toast.region.overlaps(preview.region)
+            written.clear()
+            preview.move_crosshair(0, 0)  # a new frame (the simulation is paused)
+            await until(pilot, lambda: any("a=p" in d for d in written), what="a frame")
+            place = re.search(r"a=p[^\x1b]*,r=(\d+)", "".join(written))
+            shown = int(place.group(1))
+            assert shown == toast.region.y - preview.region.y < rows
+    run(go())
