@@ -68,6 +68,9 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     app.add_argument("--captures", default="captures", metavar="DIR",
                      help="folder for screenshots, videos, the preview file and saved scenes "
                           "(default: ./captures)")
+    app.add_argument("--graphics", choices=("auto", "kitty", "sixel", "blocks"),
+                     default="auto", help="how the preview draws: kitty graphics, sixel or "
+                     "half-block cells (default: ask the terminal)")
 
     cmd = _Parser(prog="cloth-tui")
     sub = cmd.add_subparsers(dest="command", parser_class=_Parser)
@@ -205,8 +208,10 @@ def cmd_app(args) -> int:
         from .tui.replay_app import run_replay_app
         return run_replay_app(Path(args.scene), args.overrides, Path(args.captures))
     scene = apply_overrides(load(args.scene), args.overrides)
+    from .tui.graphics.detect import detect  # before Textual takes the terminal
+    graphics = detect(args.graphics)
     from .tui.app import run_app
-    return run_app(scene, Path(args.captures))
+    return run_app(scene, Path(args.captures), graphics=graphics)
 
 
 def main(argv: list[str] | None = None) -> int:

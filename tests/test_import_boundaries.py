@@ -19,6 +19,8 @@ FORBIDDEN = {
     "cloth_tui.io": ("textual", "pyvista", "vtk", "vtkmodules", "imageio"),
     # wedges run on Dask and draw with render/: no terminal, and Dask only when a wedge runs
     "cloth_tui.wedge": ("textual", "dask", "distributed"),
+    # the terminal-graphics encoders and detection are pure: testable without an app
+    "cloth_tui.tui.graphics": ("textual", "pyvista", "vtk", "vtkmodules"),
 }
 
 # Imports every module of the package, then lists the loaded top-level names it must not use.

@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from rich.console import COLOR_SYSTEMS
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Footer, Input
@@ -29,12 +30,15 @@ from ..sim.runner import SimulationThread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
 from .commands import SceneCommands
+from .graphics.detect import Graphics
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panels import Controls, SettingField
+from .pixel_preview import PixelPreview
 from .preview import Preview
 from .status import Readout, StatusBar
 
+RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
 # Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
 ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
@@ -54,8 +58,14 @@ class ClothApp(App):
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
-                 start_paused: bool = False, freeze_gc: bool = False) -> None:
+                 start_paused: bool = False, freeze_gc: bool = False,
+                 graphics: Graphics | None = None) -> None:
         super().__init__()
+        self.graphics = graphics or Graphics("blocks")  # colors: truecolor
+        if graphics is not None and "TEXTUAL_COLOR_SYSTEM" not in os.environ:
+            # The colour depth the terminal was found to have, not the one it announces
+            # (Rich reads TERM=xterm as 16 colours); Console keeps it in `_color_system`.
+            self.console._color_system = COLOR_SYSTEMS[RICH_COLOR_SYSTEM[graphics.colors]]
         install_acyclic_strip_divide()  # else every redrawn line is cyclic garbage
         self.scene = scene
         self.captures_dir = Path(captures_dir)
@@ -64,6 +74,8 @@ class ClothApp(App):
         self._freeze_gc = freeze_gc  # after the first frame: start-up done
         self._halt_told: str | None = None  # the runner's halt reason already notified
         self.readout = Readout()
+        if graphics is not None:  # shown in the status line when it was chosen
+            self.readout.graphics = graphics.label
         self.sim: SimulationThread | None = None
         self.renderer: Any = None
         self._snap_box: Any = None
@@ -91,7 +103,11 @@ class ClothApp(App):
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
         with Horizontal(id="main"):
-            yield Preview(id="preview")
+            if self.graphics.mode == "blocks":
+                # Dithered below truecolor only when the depth was found out (graphics given)
+                yield Preview(id="preview", colors=self.graphics.colors)
+            else:
+                yield PixelPreview(self.graphics, id="preview")
             yield Controls(self.scene, id="controls")
         yield StatusBar(id="status")
         yield Footer(compact=True)

@@ -22,6 +22,8 @@ from textual.message import Message
 from textual.strip import Strip
 from textual.widget import Widget
 
+from .graphics.palette import dither_rgb, palette_for
+
 HALF = "▀"
 SCALE = 2  # the renderer draws SCALE× the half-block pixels; cells show their average
 CROSSHAIR = "╋"
@@ -102,11 +104,16 @@ def resample(image: np.ndarray, cols: int, rows: int) -> np.ndarray:
 
 
 def image_to_strips(image: np.ndarray, cols: int, rows: int, styles: StyleCache,
-                    crosshair: tuple[int, int] | None = None) -> list[Strip]:
-    """One Strip per terminal row of `cols` half-block cells showing `image`."""
+                    crosshair: tuple[int, int] | None = None,
+                    palette: np.ndarray | None = None) -> list[Strip]:
+    """One Strip per terminal row of `cols` half-block cells showing `image`; below
+    truecolor, dithered to the terminal's `palette` (else the terminal's downgrade to the
+    nearest colour turns the shading into flat blocks)."""
     if cols <= 0 or rows <= 0:
         return []
-    px = resample(image, cols, rows).astype(np.uint32) & _QUANT
+    px = resample(image, cols, rows)
+    px = dither_rgb(px, palette).astype(np.uint32) if palette is not None else (
+        px.astype(np.uint32) & _QUANT)
     packed = (px[..., 0] << 16) | (px[..., 1] << 8) | px[..., 2]
     keys = (packed[0::2].astype(np.int64) << 24) | packed[1::2].astype(np.int64)
     change = keys[:, 1:] != keys[:, :-1]
@@ -168,9 +175,12 @@ class Preview(Widget):
             super().__init__()
             self.u, self.v, self.start = u, v, start
 
-    def __init__(self, *, id: str | None = None) -> None:
+    def __init__(self, *, id: str | None = None, colors: str = "truecolor") -> None:
+        """`colors`: the terminal's colour depth ('truecolor', '256', '16'); below
+        truecolor the picture is dithered to the terminal's palette."""
         super().__init__(id=id)
         self._styles = StyleCache()
+        self._palette = palette_for(colors)
         self._strips: list[Strip] = []
         self._image: np.ndarray | None = None
         self.pointer: tuple[float, float] | None = None  # mouse over the preview, (u, v)
@@ -217,7 +227,7 @@ class Preview(Widget):
             return
         cols, rows = self.size.width, self.size.height
         self._strips = image_to_strips(self._image, cols, rows, self._styles,
-                                       self._cell(self.crosshair))
+                                       self._cell(self.crosshair), self._palette)
         self.refresh()
 
     # -- Line API -------------------------------------------------------------------------

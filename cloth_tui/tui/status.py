@@ -55,6 +55,7 @@ class Readout:
         self.energy0: float | None = None
         self.ms_history: deque[float] = deque([0.0] * history, maxlen=history)
         self.last_frame = -1
+        self.graphics = ""  # how the preview draws: 'kitty', 'sixel', 'blocks 256'…
 
     def restart(self) -> None:
         self.energy0 = None
@@ -105,7 +106,8 @@ class Readout:
         parts += [
             "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶ running[/]",
             f"sim {self.sim_rate.rate():3.0f} fps",
-            f"view {self.view_rate.rate():3.0f} fps",
+            f"view {self.view_rate.rate():3.0f} fps"
+            + (f" ({self.graphics})" if self.graphics else ""),
             f"{s.get('particles', 0)} particles",
             f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
             f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
