@@ -206,12 +206,17 @@ def cmd_app(args) -> int:
 
     if Path(args.scene).suffix.lower() in (".usd", ".usdc", ".usda"):  # a bake: replay it
         from .tui.replay_app import run_replay_app
-        return run_replay_app(Path(args.scene), args.overrides, Path(args.captures))
+        return run_replay_app(Path(args.scene), args.overrides, Path(args.captures),
+                              graphics=_detect_graphics(args))
     scene = apply_overrides(load(args.scene), args.overrides)
-    from .tui.graphics.detect import detect  # before Textual takes the terminal
-    graphics = detect(args.graphics)
+    graphics = _detect_graphics(args)
     from .tui.app import run_app
     return run_app(scene, Path(args.captures), graphics=graphics)
+
+
+def _detect_graphics(args):
+    from .tui.graphics.detect import detect  # before Textual takes the terminal
+    return detect(args.graphics)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -103,14 +103,17 @@ class ClothApp(App):
     # -- layout ---------------------------------------------------------------------------
     def compose(self) -> ComposeResult:
         with Horizontal(id="main"):
-            if self.graphics.mode == "blocks":
-                # Dithered below truecolor only when the depth was found out (graphics given)
-                yield Preview(id="preview", colors=self.graphics.colors)
-            else:
-                yield PixelPreview(self.graphics, id="preview")
+            yield self._make_preview()
             yield Controls(self.scene, id="controls")
         yield StatusBar(id="status")
         yield Footer(compact=True)
+
+    def _make_preview(self) -> Preview:
+        """True pixels where the terminal has them, half-blocks elsewhere (dithered below
+        truecolor only when the depth was found out, i.e. graphics was given)."""
+        if self.graphics.mode == "blocks":
+            return Preview(id="preview", colors=self.graphics.colors)
+        return PixelPreview(self.graphics, id="preview")
 
     @property
     def preview(self) -> Preview:

@@ -44,7 +44,7 @@ class ReplayApp(ClothApp, inherit_bindings=False):
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="main"):
-            yield Preview(id="preview")
+            yield self._make_preview()
         yield Timeline(self.player.count, id="timeline")
         yield StatusBar(id="status")
         yield Footer(compact=True)
@@ -118,10 +118,10 @@ class ReplayApp(ClothApp, inherit_bindings=False):
             bar.show((" · ".join(parts), cost), [0.0])
 
 
-def run_replay_app(path: Path, overrides: list[str], captures_dir: Path) -> int:
+def run_replay_app(path: Path, overrides: list[str], captures_dir: Path, **kwargs) -> int:
     """Open the bake (bad input, one line: no usd-core, not a bake, physics `--set`), then
     run the app on it."""
     bake = UsdBake(path)
     scene = bake_scene(bake, overrides)
     return run_app(scene, captures_dir, app_class=ReplayApp, bake=bake,
-                   start_paused=False)
+                   start_paused=False, **kwargs)
