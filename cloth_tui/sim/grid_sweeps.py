@@ -1,0 +1,219 @@
+"""Colour sweeps over the regular grid: the XPBD projection of xpbd.py without index gathers.
+
+Every constraint of the sheet joins grid particle (i, j) to (i + di, j + dj) for one of six
+offsets, and model.py's 12 colours split each offset by the parity of a row or column. Inside
+a colour, build_model keeps the constraints in row-major order of their first particle, so a
+colour's constraints are whole rows of the grid, and constraint e of a row is the next one in
+model.edges order: rest lengths, multipliers λ (and anything else kept per constraint, in
+model.edges order) are read contiguously, and both particles of a row's constraints are
+contiguous runs of one grid row. Positions are copied once per call into a structure-of-arrays
+grid P[3, n, n] (and back at the end), so LLVM can run a row's projections four or eight to
+an instruction.
+
+Rows of one colour share no particle, so the parallel kernel splits each colour's rows across
+threads. Colours absent from the model (a family switched off) have start −1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from .jit import kernel
+
+NUM_COLORS = 12
+# (di, dj) of each colour's constraints; colour 2k and 2k+1 share an offset
+OFFSETS = ((0, 1), (0, 1), (1, 0), (1, 0), (1, 1), (1, 1), (1, -1), (1, -1),
+           (0, 2), (0, 2), (2, 0), (2, 0))
+COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
+
+
+def color_starts(edges: np.ndarray, color_offsets: np.ndarray, n: int) -> np.ndarray:
+    """Where each of the 12 grid colours starts in `edges` (−1 if absent), checked against the
+    closed-form layout the sweeps assume; ValueError if the edges are not that layout."""
+    starts = np.full(NUM_COLORS, -1, np.int64)
+    for c in range(len(color_offsets) - 1):
+        lo, hi = int(color_offsets[c]), int(color_offsets[c + 1])
+        a, b = edges[lo, 0], edges[lo, 1]
+        d = (b // n - a // n, b % n - a % n)
+        ia, ja = a // n, a % n
+        kind = OFFSETS.index(d)
+        parity = ((ja if kind in (0, 1) else ia) if kind < 8
+                  else ((ja if kind in (8, 9) else ia) // 2)) % 2
+        color = kind + parity
+        starts[color] = lo
+        if hi - lo != rows_of(color, n) * row_length(color, n):
+            raise ValueError(f"colour {color} has {hi - lo} constraints, not a grid colour's")
+    expected = np.concatenate([[0], np.cumsum([rows_of(c, n) * row_length(c, n)
+                                                for c in range(NUM_COLORS) if starts[c] >= 0])])
+    ends = edges[expected[:-1]] if len(expected) > 1 else edges[:0]
+    for c, (a, b) in zip((c for c in range(NUM_COLORS) if starts[c] >= 0), ends):
+        ia, ja = _first_particle(c, n)
+        di, dj = OFFSETS[c]
+        if (a, b) != (ia * n + ja, (ia + di) * n + ja + dj):
+            raise ValueError(f"colour {c} does not start at its grid position")
+    return starts
+
+
+def _first_particle(c: int, n: int) -> tuple[int, int]:
+    p = c % 2
+    if c < 2:
+        return 0, p
+    if c < 8:
+        return p, (1 if c >= 6 else 0)
+    if c < 10:
+        return 0, 2 * p
+    return 2 * p, 0
+
+
+@kernel(inline="always")
+def rows_of(c, n):
+    """Grid rows holding colour c's constraints."""
+    p = c % 2
+    if c < 2 or c >= 8 and c < 10:
+        return n
+    if c < 8:
+        return (n - 1 - p + 1) // 2  # rows p, p+2, … ≤ n−2
+    # rows i ≤ n−3 with (i // 2) % 2 == p: 2p, 2p+1, 2p+4, 2p+5, …
+    last = n - 3 - 2 * p
+    if last < 0:
+        return 0
+    return 2 * (last // 4) + min(last % 4, 1) + 1
+
+
+@kernel(inline="always")
+def row_length(c, n):
+    """Constraints of colour c in one of its rows."""
+    p = c % 2
+    if c < 2:
+        return max(0, (n - 1 - p + 1) // 2)  # columns p, p+2, … ≤ n−2
+    if c < 4:
+        return n
+    if c < 8:
+        return n - 1
+    if c < 10:
+        last = n - 3 - 2 * p  # columns j ≤ n−3 with (j // 2) % 2 == p
+        if last < 0:
+            return 0
+        return 2 * (last // 4) + min(last % 4, 1) + 1
+    return n
+
+
+@kernel(inline="always")
+def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t, ux, uy, uz):
+    """One projection (xpbd.py's update) between particle ja of one grid row and jb of
+    another (or the same). Branch-free, so a row vectorises: a pinned pair gets zero weight
+    instead of an early exit, and coincident ends separate along the constraint's rest
+    direction (ux, uy, uz). λ is always written; PBD passes a scratch array."""
+    wa = wa_row[ja]
+    wb = wb_row[jb]
+    dx = xb[jb] - xa[ja]
+    dy = yb[jb] - ya[ja]
+    dz = zb[jb] - za[ja]
+    d2 = dx * dx + dy * dy + dz * dz
+    crushed = d2 < COINCIDENT * COINCIDENT
+    dx = COINCIDENT * ux if crushed else dx
+    dy = COINCIDENT * uy if crushed else dy
+    dz = COINCIDENT * uz if crushed else dz
+    d2 = COINCIDENT * COINCIDENT if crushed else d2
+    d = math.sqrt(d2)
+    lam_e = lam[e]
+    s = (rest[e] - d - alpha_t * lam_e) / (d * (wa + wb + alpha_t)) if wa + wb > 0.0 else 0.0
+    xa[ja] -= wa * s * dx
+    ya[ja] -= wa * s * dy
+    za[ja] -= wa * s * dz
+    xb[jb] += wb * s * dx
+    yb[jb] += wb * s * dy
+    zb[jb] += wb * s * dz
+    lam[e] = lam_e + s * d
+
+
+@kernel(inline="always")
+def _project_row(P, W, rest, lam, starts, c, r, n, alpha_t):
+    """Projects row r of colour c (rows of one colour are independent)."""
+    r = np.int64(r)  # a prange index may be unsigned: int64 arithmetic, no float mixing
+    p = c % 2
+    length = row_length(c, n)
+    e0 = starts[c] + r * length
+    rs = rest[e0:e0 + length]
+    ls = lam[e0:e0 + length]
+    if c < 2 or c >= 8 and c < 10:
+        ia = ib = r
+    elif c < 10:
+        ia, ib = p + 2 * r, p + 2 * r + 1
+    else:
+        ia = 4 * (r // 2) + 2 * p + r % 2
+        ib = ia + 2
+    xa, ya, za, wa = P[0, ia], P[1, ia], P[2, ia], W[ia]
+    xb, yb, zb, wb = P[0, ib], P[1, ib], P[2, ib], W[ib]
+    if c < 2:  # structural along a row: (i, j)–(i, j+1), j = p, p+2, …
+        for k in range(length):
+            _pair(xa, ya, za, wa, p + 2 * k, xb, yb, zb, wb, p + 2 * k + 1, rs, ls, k,
+                  alpha_t, 1.0, 0.0, 0.0)
+    elif c < 4 or c >= 10:  # structural or bending down a column
+        for j in range(length):
+            _pair(xa, ya, za, wa, j, xb, yb, zb, wb, j, rs, ls, j, alpha_t, 0.0, 0.0, 1.0)
+    elif c < 6:  # shear (i, j)–(i+1, j+1)
+        for j in range(length):
+            _pair(xa, ya, za, wa, j, xb, yb, zb, wb, j + 1, rs, ls, j, alpha_t,
+                  0.7071067811865476, 0.0, 0.7071067811865476)
+    elif c < 8:  # shear (i, j+1)–(i+1, j)
+        for j in range(length):
+            _pair(xa, ya, za, wa, j + 1, xb, yb, zb, wb, j, rs, ls, j, alpha_t,
+                  -0.7071067811865476, 0.0, 0.7071067811865476)
+    else:  # bending along a row: (i, j)–(i, j+2), j = 2p, 2p+1, 2p+4, 2p+5, …
+        for k in range((length + 1) // 2):
+            _pair(xa, ya, za, wa, 4 * k + 2 * p, xb, yb, zb, wb, 4 * k + 2 * p + 2, rs, ls,
+                  2 * k, alpha_t, 1.0, 0.0, 0.0)
+        for k in range(length // 2):
+            _pair(xa, ya, za, wa, 4 * k + 2 * p + 1, xb, yb, zb, wb, 4 * k + 2 * p + 3, rs, ls,
+                  2 * k + 1, alpha_t, 1.0, 0.0, 0.0)
+
+
+@kernel(inline="always")
+def _gather(x, P, n):
+    for i in range(n):
+        for j in range(n):
+            for a in range(3):
+                P[a, i, j] = x[i * n + j, a]
+
+
+@kernel(inline="always")
+def _scatter(P, x, n):
+    for i in range(n):
+        for j in range(n):
+            for a in range(3):
+                x[i * n + j, a] = P[a, i, j]
+
+
+@kernel(_nrt=False)
+def sweep_grid_colors(x, W, rest, lam, starts, alpha_t, iterations, P):
+    """`iterations` passes of coloured Gauss-Seidel over the grid, one thread. λ is reset:
+    it accumulates over one substep's passes, and only for XPBD (α > 0)."""
+    n = W.shape[0]
+    lam[:] = 0.0
+    _gather(x, P, n)
+    for _ in range(iterations):
+        for c in range(NUM_COLORS):
+            if starts[c] < 0:
+                continue
+            for r in range(rows_of(c, n)):
+                _project_row(P, W, rest, lam, starts, c, r, n, alpha_t)
+    _scatter(P, x, n)
+
+
+@kernel(parallel=True, _nrt=False)
+def sweep_grid_colors_parallel(x, W, rest, lam, starts, alpha_t, iterations, P):
+    """The same sweeps with each colour's rows split across threads (a barrier per colour)."""
+    n = W.shape[0]
+    lam[:] = 0.0
+    _gather(x, P, n)
+    for _ in range(iterations):
+        for c in range(NUM_COLORS):
+            if starts[c] < 0:
+                continue
+            for r in prange(rows_of(c, n)):
+                _project_row(P, W, rest, lam, starts, c, r, n, alpha_t)
+    _scatter(P, x, n)
