@@ -102,11 +102,12 @@ def row_length(c, n):
 
 
 @kernel(inline="always")
-def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t, ux, uy, uz):
+def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t, ia, ib, n):
     """One projection (xpbd.py's update) between particle ja of one grid row and jb of
-    another (or the same). Branch-free, so a row vectorises: a pinned pair gets zero weight
-    instead of an early exit, and coincident ends separate along the constraint's rest
-    direction (ux, uy, uz). λ is always written; PBD passes a scratch array."""
+    another (or the same): rows ia and ib of an n-wide grid. Branch-free, so a row
+    vectorises: a pinned pair gets zero weight instead of an early exit. Coincident ends
+    (no direction of their own) are left to `_crushed_pair`. λ is always written; PBD
+    passes a scratch array."""
     wa = wa_row[ja]
     wb = wb_row[jb]
     dx = xb[jb] - xa[ja]
@@ -114,13 +115,10 @@ def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t,
     dz = zb[jb] - za[ja]
     d2 = dx * dx + dy * dy + dz * dz
     crushed = d2 < COINCIDENT * COINCIDENT
-    dx = COINCIDENT * ux if crushed else dx
-    dy = COINCIDENT * uy if crushed else dy
-    dz = COINCIDENT * uz if crushed else dz
-    d2 = COINCIDENT * COINCIDENT if crushed else d2
-    d = math.sqrt(d2)
+    d = math.sqrt(1.0 if crushed else d2)
     lam_e = lam[e]
     s = (rest[e] - d - alpha_t * lam_e) / (d * (wa + wb + alpha_t)) if wa + wb > 0.0 else 0.0
+    s = 0.0 if crushed else s
     xa[ja] -= wa * s * dx
     ya[ja] -= wa * s * dy
     za[ja] -= wa * s * dz
@@ -128,11 +126,48 @@ def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t,
     yb[jb] += wb * s * dy
     zb[jb] += wb * s * dz
     lam[e] = lam_e + s * d
+    return 1 if crushed else 0  # left for `_crushed_pair`
 
 
 @kernel(inline="always")
-def _project_row(P, W, rest, lam, starts, c, r, n, alpha_t):
-    """Projects row r of colour c (rows of one colour are independent)."""
+def _crushed_pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, lam, e, alpha_t, ia,
+                  ib, n):
+    """The pairs `_pair` left: ends closer than COINCIDENT separate along xpbd.py's fixed,
+    pair-dependent direction, so a crushed sheet unfolds exactly as with the plain loop.
+    Pairs of one colour share no particle, so doing these after the rest of their row
+    changes nothing."""
+    wa = wa_row[ja]
+    wb = wb_row[jb]
+    dx = xb[jb] - xa[ja]
+    dy = yb[jb] - ya[ja]
+    dz = zb[jb] - za[ja]
+    if wa + wb > 0.0 and dx * dx + dy * dy + dz * dz < COINCIDENT * COINCIDENT:
+        a = ia * n + ja
+        b = ib * n + jb
+        dx = math.sin(1.3 * a + 7.1 * b)
+        dy = math.cos(3.7 * a - 1.9 * b)
+        dz = math.sin(2.3 * a + 0.7 * b + 1.0)
+        scale = COINCIDENT / math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx *= scale
+        dy *= scale
+        dz *= scale
+        d = COINCIDENT
+        s = (rest[e] - d - alpha_t * lam[e]) / (d * (wa + wb + alpha_t))
+        xa[ja] -= wa * s * dx
+        ya[ja] -= wa * s * dy
+        za[ja] -= wa * s * dz
+        xb[jb] += wb * s * dx
+        yb[jb] += wb * s * dy
+        zb[jb] += wb * s * dz
+        lam[e] += s * d
+    return 0
+
+
+@kernel(inline="always")
+def _project_row(pair, P, W, rest, lam, starts, c, r, n, alpha_t):
+    """Runs `pair` on every constraint of row r of colour c (rows of one colour are
+    independent). Returns what the pairs return: how many coincident pairs were left."""
+    left = 0
     r = np.int64(r)  # a prange index may be unsigned: int64 arithmetic, no float mixing
     p = c % 2
     length = row_length(c, n)
@@ -150,26 +185,27 @@ def _project_row(P, W, rest, lam, starts, c, r, n, alpha_t):
     xb, yb, zb, wb = P[0, ib], P[1, ib], P[2, ib], W[ib]
     if c < 2:  # structural along a row: (i, j)–(i, j+1), j = p, p+2, …
         for k in range(length):
-            _pair(xa, ya, za, wa, p + 2 * k, xb, yb, zb, wb, p + 2 * k + 1, rs, ls, k,
-                  alpha_t, 1.0, 0.0, 0.0)
+            left += pair(xa, ya, za, wa, p + 2 * k, xb, yb, zb, wb, p + 2 * k + 1, rs, ls,
+                         k, alpha_t, ia, ib, n)
     elif c < 4 or c >= 10:  # structural or bending down a column
         for j in range(length):
-            _pair(xa, ya, za, wa, j, xb, yb, zb, wb, j, rs, ls, j, alpha_t, 0.0, 0.0, 1.0)
+            left += pair(xa, ya, za, wa, j, xb, yb, zb, wb, j, rs, ls, j, alpha_t, ia, ib, n)
     elif c < 6:  # shear (i, j)–(i+1, j+1)
         for j in range(length):
-            _pair(xa, ya, za, wa, j, xb, yb, zb, wb, j + 1, rs, ls, j, alpha_t,
-                  0.7071067811865476, 0.0, 0.7071067811865476)
+            left += pair(xa, ya, za, wa, j, xb, yb, zb, wb, j + 1, rs, ls, j, alpha_t,
+                         ia, ib, n)
     elif c < 8:  # shear (i, j+1)–(i+1, j)
         for j in range(length):
-            _pair(xa, ya, za, wa, j + 1, xb, yb, zb, wb, j, rs, ls, j, alpha_t,
-                  -0.7071067811865476, 0.0, 0.7071067811865476)
+            left += pair(xa, ya, za, wa, j + 1, xb, yb, zb, wb, j, rs, ls, j, alpha_t,
+                         ia, ib, n)
     else:  # bending along a row: (i, j)–(i, j+2), j = 2p, 2p+1, 2p+4, 2p+5, …
         for k in range((length + 1) // 2):
-            _pair(xa, ya, za, wa, 4 * k + 2 * p, xb, yb, zb, wb, 4 * k + 2 * p + 2, rs, ls,
-                  2 * k, alpha_t, 1.0, 0.0, 0.0)
+            left += pair(xa, ya, za, wa, 4 * k + 2 * p, xb, yb, zb, wb, 4 * k + 2 * p + 2,
+                         rs, ls, 2 * k, alpha_t, ia, ib, n)
         for k in range(length // 2):
-            _pair(xa, ya, za, wa, 4 * k + 2 * p + 1, xb, yb, zb, wb, 4 * k + 2 * p + 3, rs, ls,
-                  2 * k + 1, alpha_t, 1.0, 0.0, 0.0)
+            left += pair(xa, ya, za, wa, 4 * k + 2 * p + 1, xb, yb, zb, wb, 4 * k + 2 * p + 3,
+                         rs, ls, 2 * k + 1, alpha_t, ia, ib, n)
+    return left
 
 
 @kernel(inline="always")
@@ -200,7 +236,8 @@ def sweep_grid_colors(x, W, rest, lam, starts, alpha_t, iterations, P):
             if starts[c] < 0:
                 continue
             for r in range(rows_of(c, n)):
-                _project_row(P, W, rest, lam, starts, c, r, n, alpha_t)
+                if _project_row(_pair, P, W, rest, lam, starts, c, r, n, alpha_t):
+                    _project_row(_crushed_pair, P, W, rest, lam, starts, c, r, n, alpha_t)
     _scatter(P, x, n)
 
 
@@ -215,5 +252,6 @@ def sweep_grid_colors_parallel(x, W, rest, lam, starts, alpha_t, iterations, P):
             if starts[c] < 0:
                 continue
             for r in prange(rows_of(c, n)):
-                _project_row(P, W, rest, lam, starts, c, r, n, alpha_t)
+                if _project_row(_pair, P, W, rest, lam, starts, c, r, n, alpha_t):
+                    _project_row(_crushed_pair, P, W, rest, lam, starts, c, r, n, alpha_t)
     _scatter(P, x, n)
