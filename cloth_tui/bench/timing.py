@@ -51,3 +51,24 @@ def first_call_s(fn: Callable[[], None]) -> float:
     t0 = time.perf_counter()
     fn()
     return time.perf_counter() - t0
+
+
+def time_alternating(fns: dict[str, Callable[[], None]], *, block_s: float = 0.1,
+                     blocks: int = 5, warmup: int = 2) -> dict[str, Timing]:
+    """Per-call time of each of `fns`, their blocks taken in turn (A, B, C, A, B, C, …) so
+    that a change in the machine's load hits all alike."""
+    calls, times = {}, {name: [] for name in fns}
+    for name, fn in fns.items():
+        for _ in range(warmup):
+            fn()
+        t0 = time.perf_counter()
+        fn()
+        calls[name] = max(1, int(block_s / max(time.perf_counter() - t0, 1e-7)))
+    for _ in range(blocks):
+        for name, fn in fns.items():
+            t0 = time.perf_counter()
+            for _ in range(calls[name]):
+                fn()
+            times[name].append((time.perf_counter() - t0) / calls[name])
+    return {name: Timing(statistics.median(t), min(t), max(t), blocks, calls[name])
+            for name, t in times.items()}

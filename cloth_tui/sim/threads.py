@@ -69,6 +69,7 @@ class KernelChoice:
         self.parallel_s = 0.0  # and of a parallel call's
         self.use_parallel = False
         self.calls = 0
+        self.parallel_calls = 0
         self.backoff = FIRST_PROBE
         self.next_probe = FIRST_PROBE
         self.contended = False  # the serial kernel was last seen preempted
@@ -105,6 +106,7 @@ class KernelChoice:
         self.serial_s = _smooth(self.serial_s, wall)
 
     def _run_parallel(self, args) -> None:
+        self.parallel_calls += 1
         t0 = time.perf_counter()
         self.parallel(*args)
         wall = time.perf_counter() - t0
