@@ -36,6 +36,13 @@ def force_single_thread(single: bool) -> None:
     _forced_single = single
 
 
+def toggle_single_thread() -> bool:
+    """The app's key: flip the forced single thread; returns whether one thread is now
+    forced (by the key or by CLOTH_TUI_THREADS=1)."""
+    force_single_thread(not _forced_single)
+    return single_thread_forced()
+
+
 def env_threads() -> int | None:
     """The thread limit CLOTH_TUI_THREADS asks for, or None. ValueError names a bad value."""
     value = os.environ.get(ENV_THREADS, "").strip()
