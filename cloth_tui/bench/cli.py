@@ -108,20 +108,25 @@ def _spread(r: dict, fmt: str = ".0f") -> str:
 
 def _threads(row: dict) -> str:
     share = row["parallel_share"]
-    return "1" if share == 0 else "2" if share == 1 else f"1–2 ({share:.0%} on 2)"
+    return "1" if share == 0 else "2" if share == 1 else f"2 on {share:.1%}"
+
+
+def _one_thread(c: dict) -> str:
+    return f"{c['step']['per_s']:.0f} ÷ {c['serial_loop']['per_s']:.0f} = " \
+           f"{c['step_vs_serial_loop']:.2f}×"
 
 
 def _step_table(title: str, part: dict) -> list[str]:
     out = ["", title,
            f"{'n':>5} {'constraints':>11} {'threads':>9} | {'whole step':>19} | "
            f"{'kernel alone':>19} | {'serial numba loop':>19} | {'step ÷ loop':>11} | "
-           f"{'NumPy':>12}"]
+           f"{'1 thread, CPU time: step ÷ loop':>31} | {'NumPy':>12}"]
     for s in part["step"]:
         numpy = _spread(s["numpy"], ".1f") if "numpy" in s else "–"
         out.append(f"{s['n']:>5} {s['constraints']:>11} {_threads(s):>9} | "
                    f"{_spread(s['step']):>19} | {_spread(s['kernel']):>19} | "
                    f"{_spread(s['serial_loop']):>19} | {s['step_vs_serial_loop']:>10.2f}× | "
-                   f"{numpy:>12}")
+                   f"{_one_thread(s['one_thread_cpu']):>31} | {numpy:>12}")
     f = part["frames"]
     out.append(f"  {f['n']}² sheet, default scene, {f['substeps']} substeps × {f['iterations']} "
                f"iterations, fixed (adaptive off), {f['threads']} thread(s) at the end: "

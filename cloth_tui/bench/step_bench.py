@@ -15,6 +15,7 @@ from ..scene import Scene, load
 from ..sim import pipeline
 from ..sim.model import build_model
 from ..sim.state import ClothState
+from ..sim.threads import force_single_thread
 from .numpy_step import NumpyStep
 from .serial_step import SerialStep
 from .timing import Timing, first_call_s, time_alternating, time_calls
@@ -58,6 +59,14 @@ def bench_step(n: int, iterations: int = 4, quick: bool = False,
                           "serial_loop": lambda: peer.substep(peer_state)},
                          block_s=block_s, blocks=blocks)
     projections = model.num_constraints * iterations / 1e6  # M projections per step
+    # One thread each, CPU time of this thread: the kernels' own speed, whatever the load
+    force_single_thread(True)
+    try:
+        cpu = time_alternating({"step": lambda: step.substep(state),
+                                "serial_loop": lambda: peer.substep(peer_state)},
+                               block_s=block_s, blocks=blocks, clock=time.thread_time)
+    finally:
+        force_single_thread(False)
     out = {
         "n": n, "iterations": iterations, "constraints": model.num_constraints,
         "effects": step.names, "projection_kernel": projection.kernel_name,
@@ -66,6 +75,10 @@ def bench_step(n: int, iterations: int = 4, quick: bool = False,
         "step": _rate(t["step"], projections), "kernel": _rate(t["kernel"], projections),
         "serial_loop": _rate(t["serial_loop"], projections),
         "step_vs_serial_loop": t["serial_loop"].median_s / t["step"].median_s,
+        "one_thread_cpu": {"step": _rate(cpu["step"], projections),
+                           "serial_loop": _rate(cpu["serial_loop"], projections),
+                           "step_vs_serial_loop": cpu["serial_loop"].median_s
+                           / cpu["step"].median_s},
     }
     if numpy_baseline:
         ref = NumpyStep(model, step.h, iterations, b.damping, scene.forces.gravity_strength,

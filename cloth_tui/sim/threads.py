@@ -8,7 +8,8 @@ is used only while it measurably wins, and contention sends the choice back to s
 - the serial kernel's thread CPU time against its wall time shows preemption: when the
   thread got less than CONTENDED_CPU_SHARE of the wall time, the machine has no idle core;
 - a parallel call slower than SLOWER_BY × the serial estimate switches back immediately;
-- the parallel kernel is re-tried after a backoff that doubles each time it loses.
+- the parallel kernel is re-tried after a backoff that doubles each time it loses, and only
+  while the load average leaves a core idle (a losing try under heavy load cost 100 ms);
 CLOTH_TUI_THREADS=1 (environment) or `force_single_thread(True)` (the app's key) keeps
 everything on one thread.
 """
@@ -58,6 +59,19 @@ def single_thread_forced() -> bool:
     return _forced_single or (limit is not None and limit == 1)
 
 
+def load_average() -> float:
+    """Runnable processes, averaged over the last minute (0 where unknown)."""
+    try:
+        return os.getloadavg()[0]
+    except (AttributeError, OSError):
+        return 0.0
+
+
+def spare_core() -> bool:
+    """Whether the machine has, on average, a core nobody else wants."""
+    return load_average() < usable_cores() - 0.5
+
+
 def usable_cores() -> int:
     try:
         return len(os.sched_getaffinity(0))
@@ -98,7 +112,8 @@ class KernelChoice:
             return
         if self.use_parallel:
             self._run_parallel(args)
-        elif self.calls >= self.next_probe and not self.contended and self.serial_s:
+        elif self.calls >= self.next_probe and not self.contended and self.serial_s \
+                and spare_core():
             self._run_parallel(args)
         else:
             self._run_serial(args)

@@ -23,6 +23,7 @@ class Recorder:
 @pytest.fixture(autouse=True)
 def _cores(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 2)
+    monkeypatch.setattr(threads, "load_average", lambda: 0.5)
     monkeypatch.delenv(threads.ENV_THREADS, raising=False)
     yield
     threads.force_single_thread(False)
@@ -86,3 +87,13 @@ def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch
     for _ in range(10):
         choice()
     assert parallel.calls == before  # backed off
+
+
+def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
+    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
+    monkeypatch.setattr(threads, "load_average", lambda: 3.0)
+    serial, parallel = Recorder("s", 0.002), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls == 0
