@@ -31,41 +31,44 @@ COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 
 
 def color_starts(edges: np.ndarray, color_offsets: np.ndarray, n: int) -> np.ndarray:
-    """Where each of the 12 grid colours starts in `edges` (−1 if absent), checked against the
-    closed-form layout the sweeps assume; ValueError if the edges are not that layout."""
+    """Where each of the 12 grid colours starts in `edges` (−1 if absent). ValueError unless
+    `edges` are exactly the sweeps' order (`sweep_order`), which build_model's are."""
     starts = np.full(NUM_COLORS, -1, np.int64)
-    for c in range(len(color_offsets) - 1):
-        lo, hi = int(color_offsets[c]), int(color_offsets[c + 1])
-        a, b = edges[lo, 0], edges[lo, 1]
-        d = (b // n - a // n, b % n - a % n)
-        ia, ja = a // n, a % n
+    for lo in color_offsets[:-1]:
+        a, b = int(edges[lo, 0]), int(edges[lo, 1])
+        ia, ja, d = a // n, a % n, (b // n - a // n, b % n - a % n)
+        if d not in OFFSETS:
+            raise ValueError(f"constraint ({a}, {b}) does not join grid neighbours")
         kind = OFFSETS.index(d)
-        parity = ((ja if kind in (0, 1) else ia) if kind < 8
-                  else ((ja if kind in (8, 9) else ia) // 2)) % 2
-        color = kind + parity
-        starts[color] = lo
-        if hi - lo != rows_of(color, n) * row_length(color, n):
-            raise ValueError(f"colour {color} has {hi - lo} constraints, not a grid colour's")
-    expected = np.concatenate([[0], np.cumsum([rows_of(c, n) * row_length(c, n)
-                                                for c in range(NUM_COLORS) if starts[c] >= 0])])
-    ends = edges[expected[:-1]] if len(expected) > 1 else edges[:0]
-    for c, (a, b) in zip((c for c in range(NUM_COLORS) if starts[c] >= 0), ends):
-        ia, ja = _first_particle(c, n)
-        di, dj = OFFSETS[c]
-        if (a, b) != (ia * n + ja, (ia + di) * n + ja + dj):
-            raise ValueError(f"colour {c} does not start at its grid position")
+        line = ja if kind in (0, 1, 8, 9) else ia  # the column or row its parity counts
+        starts[kind + (line if kind < 8 else line // 2) % 2] = lo
+    present = [c for c in range(NUM_COLORS) if starts[c] >= 0]
+    if not np.array_equal(edges, sweep_order(n, present)):
+        raise ValueError("the constraints are not in the grid sweeps' order")
     return starts
 
 
-def _first_particle(c: int, n: int) -> tuple[int, int]:
-    p = c % 2
-    if c < 2:
-        return 0, p
-    if c < 8:
-        return p, (1 if c >= 6 else 0)
-    if c < 10:
-        return 0, 2 * p
-    return 2 * p, 0
+def sweep_order(n: int, colors: list[int]) -> np.ndarray:
+    """The (a, b) pairs of `colors`, in the order the sweeps visit them (NumPy, written
+    independently of the kernels' index arithmetic as a check of both)."""
+    idx = np.arange(n * n).reshape(n, n)
+    out = [np.zeros((0, 2), np.int64)]
+    for c in colors:
+        di, dj = OFFSETS[c]
+        p = c % 2
+        a = idx[:n - di, max(0, -dj):n - max(0, dj)]  # first particles of every pair
+        rows, cols = np.arange(a.shape[0]), np.arange(a.shape[1]) + max(0, -dj)
+        if c < 2:
+            keep_r, keep_c = np.ones_like(rows, bool), cols % 2 == p
+        elif c < 8:
+            keep_r, keep_c = rows % 2 == p, np.ones_like(cols, bool)
+        elif c < 10:
+            keep_r, keep_c = np.ones_like(rows, bool), (cols // 2) % 2 == p
+        else:
+            keep_r, keep_c = (rows // 2) % 2 == p, np.ones_like(cols, bool)
+        first = a[keep_r][:, keep_c].ravel()
+        out.append(np.stack([first, first + di * n + dj], axis=1))
+    return np.concatenate(out).astype(np.int64)
 
 
 @kernel(inline="always")

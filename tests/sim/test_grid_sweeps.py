@@ -60,7 +60,15 @@ def test_color_starts_rejects_edges_not_in_grid_order():
     edges = m.edges.copy()
     lo, hi = m.color_offsets[2], m.color_offsets[3]
     edges[lo:hi] = edges[lo:hi][::-1]
-    with pytest.raises(ValueError, match="grid position"):
+    with pytest.raises(ValueError, match="order"):
+        grid_sweeps.color_starts(edges, m.color_offsets, m.n)
+
+
+def test_color_starts_rejects_a_constraint_between_far_particles():
+    m = _model(6)
+    edges = m.edges.copy()
+    edges[0] = (0, 14)
+    with pytest.raises(ValueError, match="grid neighbours"):
         grid_sweeps.color_starts(edges, m.color_offsets, m.n)
 
 
