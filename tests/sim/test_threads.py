@@ -24,6 +24,9 @@ class Recorder:
 def _cores(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 2)
     monkeypatch.setattr(threads, "load_average", lambda: 0.5)
+    # judge by the timings alone: on a loaded test machine even a spinning serial kernel
+    # gets preempted (test_preempted_serial_kernel_means_no_parallel_try checks that rule)
+    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
     monkeypatch.delenv(threads.ENV_THREADS, raising=False)
     yield
     threads.force_single_thread(False)
@@ -74,13 +77,12 @@ def test_one_core_means_serial(monkeypatch):
 
 
 def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch):
-    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)  # judge by the timings alone
-    serial, parallel = Recorder("s", 0.002), Recorder("p")
+    serial, parallel = Recorder("s", 0.01), Recorder("p")
     choice = threads.KernelChoice(serial, parallel)
     for _ in range(40):
         choice()
     assert choice.threads == 2 and choice.kernel_name == "p"
-    parallel.seconds = 0.02  # the other core got busy: barriers stall
+    parallel.seconds = 0.05  # the other core got busy: barriers stall
     choice()
     assert choice.threads == 1
     before = parallel.calls
@@ -90,10 +92,24 @@ def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch
 
 
 def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
-    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
     monkeypatch.setattr(threads, "load_average", lambda: 3.0)
     serial, parallel = Recorder("s", 0.002), Recorder("p")
     choice = threads.KernelChoice(serial, parallel)
     for _ in range(40):
         choice()
     assert parallel.calls == 0
+
+
+def test_preempted_serial_kernel_means_no_parallel_try(monkeypatch):
+    # A kernel that got a fraction of its wall time on the CPU (here it sleeps: the extreme
+    # of preemption) shows a machine with no idle core: the parallel kernel is not tried.
+    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.8)
+
+    def sleepy():
+        time.sleep(0.002)
+    sleepy.__name__ = "s"
+    parallel = Recorder("p")
+    choice = threads.KernelChoice(sleepy, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls == 0 and choice.contended
