@@ -19,7 +19,8 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import COINCIDENT, color_starts, sweep_grid_colors, sweep_grid_colors_parallel
+from .grid_sweeps import (COINCIDENT, color_starts, lane_grid, lane_masses, sweep_grid_colors,
+                          sweep_grid_colors_parallel)
 from .jit import kernel
 from .threads import KernelChoice
 
@@ -97,8 +98,8 @@ class ProjectConstraints:
         self._lam = self.lambdas if self.alpha_t else np.zeros(model.num_constraints)
         n = model.n
         self._starts = color_starts(model.edges, model.color_offsets, n)
-        self._inv_mass = model.inv_mass.reshape(n, n)
-        self._grid = np.empty((3, n, n))  # structure-of-arrays positions, scratch
+        self._inv_mass = lane_masses(model.inv_mass, n)
+        self._grid = lane_grid(n)  # structure-of-arrays positions, scratch
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(
             sweep_grid_colors,

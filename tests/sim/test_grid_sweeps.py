@@ -17,8 +17,8 @@ def _model(n, families=(True, True, True), pinned="corners"):
 def _sweep(kernel, m, x, alpha_t, iterations=3):
     lam = np.zeros(m.num_constraints)
     starts = grid_sweeps.color_starts(m.edges, m.color_offsets, m.n)
-    kernel(x, m.inv_mass.reshape(m.n, m.n), m.rest_length, lam, starts, alpha_t, iterations,
-           np.empty((3, m.n, m.n)))
+    kernel(x, grid_sweeps.lane_masses(m.inv_mass, m.n), m.rest_length, lam, starts, alpha_t,
+           iterations, grid_sweeps.lane_grid(m.n))
     return lam
 
 
