@@ -58,6 +58,13 @@ def _positive_int(text: str) -> int:
     return v
 
 
+def _size_list(text: str) -> list[int]:
+    sizes = [_positive_int(t) for t in text.split(",")]
+    if any(n < 3 for n in sizes):
+        raise argparse.ArgumentTypeError(f"{text!r}: every size must be ≥ 3")
+    return sizes
+
+
 def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     app = _Parser(prog="cloth-tui",
                   description="A cloth simulator in your terminal. Without a command, opens the "
@@ -105,6 +112,11 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--json", action="store_true")
     p.add_argument("--quick", action="store_true", help="fewer sizes and repetitions")
     p.add_argument("--breakdown", metavar="SCENE", help="time each effect of SCENE's step")
+    p.add_argument("--contended", action="store_true",
+                   help="also time the step with a busy loop taking one core")
+    p.add_argument("--sizes", type=_size_list, metavar="N,N,…",
+                   help="sheet sizes of the step table (default 26,64,128,256)")
+    p.add_argument("--no-render", action="store_true", help="skip render and frame pipeline")
 
     p = sub.add_parser("accuracy", help="work-precision study of solvers and integrators")
     p.add_argument("--json", action="store_true")
@@ -219,6 +231,14 @@ def _detect_graphics(args):
     return detect(args.graphics)
 
 
+def _check_thread_limit() -> None:
+    from .sim.threads import env_threads
+    try:
+        env_threads()
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     from .safe_text import escape_controls
@@ -226,6 +246,7 @@ def main(argv: list[str] | None = None) -> int:
 
     app_parser, cmd_parser = build_parsers()
     try:
+        _check_thread_limit()
         if argv and argv[0] in COMMANDS:
             args = cmd_parser.parse_args(argv)
             handler = globals()[f"cmd_{args.command}"]

@@ -1,4 +1,8 @@
-"""`cloth-tui bench`: performance numbers, side by side, from one run on this machine."""
+"""`cloth-tui bench`: performance numbers, side by side, from one run on this machine.
+
+Every figure is a median over timed blocks after a warm-up, shown with the slowest and the
+fastest block ([min–max]). Wall-clock figures depend on what else the machine runs: the
+report prints the load average at the start and the end."""
 
 from __future__ import annotations
 
@@ -6,7 +10,9 @@ import json
 import sys
 
 from . import breakdown as bd
-from .step_bench import bare_scene, bench_step, machine
+from .step_bench import bare_scene, bench_frames_per_second, bench_step, busy_core, machine
+
+FRAME_SHEET = 256  # the frames-per-second target's sheet: 4 substeps × 4 iterations
 
 
 def _progress(msg: str) -> None:
@@ -42,47 +48,50 @@ def gravity_cost(n: int, quick: bool) -> dict:
             "bare_effects": steps["bare"][0].names, "ratio": grav / bare}
 
 
-def self_collision_cost(sizes: list[int], quick: bool) -> list[dict]:
+def _steps(sizes: list[int], quick: bool, label: str) -> dict:
     rows = []
-    for mode in ("naive", "hash"):
-        for n in sizes:
-            _progress(f"self-collision {mode} n={n}")
-            s = bare_scene(n)
-            s.behavior.self_collision = mode
-            s.cloth.pinned = "none"
-            result = bd.breakdown(s, frames=3 if quick else 8, warmup=1)
-            sc = [e for e in result["effects"] if "self" in e["effect"]]
-            rows.append({"mode": mode, "n": n,
-                         "ms_per_step": sc[0]["ms_per_frame"] if sc else None,
-                         "effect": sc[0]["effect"] if sc else None})
-    for r in rows:
-        prev = next((p for p in rows if p["mode"] == r["mode"] and p["n"] * 2 == r["n"]), None)
-        r["growth_vs_half_n"] = (r["ms_per_step"] / prev["ms_per_step"]
-                                 if prev and prev["ms_per_step"] and r["ms_per_step"] else None)
-    return rows
+    for n in sizes:
+        _progress(f"{label}: step n={n}")
+        rows.append(bench_step(n, 4, quick, numpy_baseline=label == "quiet"))
+    frame_n = min(FRAME_SHEET, max(sizes))
+    _progress(f"{label}: frames per second at {frame_n}²")
+    return {"step": rows, "frames": bench_frames_per_second(frame_n, quick=quick)}
 
 
 def run_bench(args) -> int:
+    from .selfcollision_bench import bench_self_collision
+
     quick = args.quick
-    result: dict = {"machine": machine()}
+    sizes = args.sizes or ([26, 64, 128] if quick else [26, 64, 128, 256])
+    result: dict = {"machine_start": machine()}
     if args.breakdown:
         from ..scene import load
         scene = load(args.breakdown)
         result["breakdown"] = bd.breakdown(scene, frames=60 if quick else 240)
-    sizes = [26, 64, 128] if quick else [26, 64, 128, 256]
-    steps = []
-    for n in sizes:
-        _progress(f"step n={n}")
-        steps.append(bench_step(n, 4, quick))
-    result["step"] = steps
+    result["quiet"] = _steps(sizes, quick, "quiet")
+    if args.contended:
+        with busy_core() as pid:
+            result["contended"] = {"busy_pid": pid, **_steps(sizes, quick, "contended")}
     _progress("gravity cost")
-    result["gravity_cost"] = gravity_cost(128, quick)
-    result["self_collision"] = self_collision_cost([32, 64] if quick else [32, 64, 128], quick)
+    result["gravity_cost"] = gravity_cost(min(128, max(sizes)), quick)
+    _progress("self-collision")
+    small = [n for n in (32, 64, 128) if n <= max(sizes)] or [min(sizes)]
+    result["self_collision"] = bench_self_collision(
+        {"naive": small[:2], "hash": small}, quick)
+    if not args.no_render:
+        _render_benches(result, quick)
+    result["machine"] = machine()  # threading layer is known only after a parallel kernel ran
+    _progress("")
+    print(json.dumps(result, indent=2) if args.json else format_report(result))
+    return 0
+
+
+def _render_benches(result: dict, quick: bool) -> None:
     from ..render.probe import RendererUnavailable
     try:
         from .render_bench import bench_render
         _progress("render")
-        result["render"] = bench_render(quick)
+        result["render"] = bench_render(quick, sheets=(26, 128, 256))
     except (ImportError, RendererUnavailable) as e:  # the physics numbers still count
         result["render"] = {"unavailable": str(e)}
     try:
@@ -91,38 +100,63 @@ def run_bench(args) -> int:
         result["frame_pipeline"] = bench_frames(quick)
     except (ImportError, RendererUnavailable) as e:
         result["frame_pipeline"] = {"unavailable": str(e)}
-    result["machine"] = machine()  # threading layer is known only after a parallel kernel ran
-    _progress("")
-    if args.json:
-        print(json.dumps(result, indent=2))
-    else:
-        print(format_report(result))
-    return 0
+
+
+def _spread(r: dict, fmt: str = ".0f") -> str:
+    return f"{r['per_s']:{fmt}} [{r['per_s_min']:{fmt}}–{r['per_s_max']:{fmt}}]"
+
+
+def _threads(row: dict) -> str:
+    share = row["parallel_share"]
+    return "1" if share == 0 else "2" if share == 1 else f"2 on {share:.1%}"
+
+
+def _one_thread(c: dict) -> str:
+    return f"{c['step']['per_s']:.0f} ÷ {c['serial_loop']['per_s']:.0f} = " \
+           f"{c['step_vs_serial_loop']:.2f}×"
+
+
+def _step_table(title: str, part: dict) -> list[str]:
+    out = ["", title,
+           f"{'n':>5} {'constraints':>11} {'threads':>9} | {'whole step':>19} | "
+           f"{'kernel alone':>19} | {'serial numba loop':>19} | {'step ÷ loop':>11} | "
+           f"{'1 thread, CPU time: step ÷ loop':>31} | {'NumPy':>12}"]
+    for s in part["step"]:
+        numpy = _spread(s["numpy"], ".1f") if "numpy" in s else "–"
+        out.append(f"{s['n']:>5} {s['constraints']:>11} {_threads(s):>9} | "
+                   f"{_spread(s['step']):>19} | {_spread(s['kernel']):>19} | "
+                   f"{_spread(s['serial_loop']):>19} | {s['step_vs_serial_loop']:>10.2f}× | "
+                   f"{_one_thread(s['one_thread_cpu']):>31} | {numpy:>12}")
+    f = part["frames"]
+    out.append(f"  {f['n']}² sheet, default scene, {f['substeps']} substeps × {f['iterations']} "
+               f"iterations, fixed (adaptive off), {f['threads']} thread(s) at the end: "
+               f"{_spread(f, '.1f')} simulated frames per wall second")
+    return out
 
 
 def format_report(r: dict) -> str:
-    m = r["machine"]
+    m, m0 = r["machine"], r["machine_start"]
     out = [f"machine: {m['cpu']}, {m['cores']} cores; Python {m['python']}, NumPy {m['numpy']}, "
-           f"numba {m['numba']} ({m['numba_threads']} threads, {m['threading_layer']})", ""]
-    out.append("Bare step (corners pinned, Verlet + damping, gravity, 3 families, K = 4, no floor)")
-    out.append(f"{'n':>5} {'constraints':>11} | {'compiled steps/s':>16} {'M proj/s':>9} "
-               f"{'spread':>7} | {'NumPy steps/s':>13} {'M proj/s':>9} {'spread':>7} | "
-               f"{'speed-up':>8} | {'compile/load s':>14}")
-    for s in r["step"]:
-        c, p = s["compiled"], s["numpy"]
-        out.append(f"{s['n']:>5} {s['constraints']:>11} | {c['steps_per_s']:>16.0f} "
-                   f"{c['mproj_per_s']:>9.1f} {c['spread']:>6.0%} | {p['steps_per_s']:>13.0f} "
-                   f"{p['mproj_per_s']:>9.1f} {p['spread']:>6.0%} | {s['speedup']:>7.1f}× | "
-                   f"{s['compile_or_cache_load_s']:>14.2f}")
+           f"numba {m['numba']} ({m['numba_threads']} threads, {m['threading_layer']} layer); "
+           f"CLOTH_TUI_THREADS={m['CLOTH_TUI_THREADS'] or 'unset'}",
+           f"load average (1 min): {m0['load_1min']:.2f} at the start, {m['load_1min']:.2f} "
+           f"at the end. Figures: median [slowest–fastest block], wall clock."]
+    head = ("M constraint projections per second; bare step (corners pinned, Verlet + "
+            "damping, gravity, 3 families, K = 4, no floor). 'whole step' = every stage of "
+            "a substep; 'kernel alone' = the projection stage only")
+    out += _step_table(f"Step, {head}", r["quiet"])
+    if "contended" in r:
+        out += _step_table("Step with a busy loop taking one core (--contended)",
+                           r["contended"])
     g = r["gravity_cost"]
     out += ["", f"Cost of gravity at n = {g['n']}: bare step ({' + '.join(g['bare_effects'])}) "
                 f"{g['bare_ms']:.3f} ms/step, with gravity {g['gravity_ms']:.3f} ms/step "
                 f"({(g['ratio'] - 1) * 100:+.1f} %)"]
-    out += ["", "Self-collision, ms per substep (growth when n doubles)"]
+    out += ["", "Self-collision on a crumpled sheet (folded 3×3, nine layers), ms per substep"]
     for row in r["self_collision"]:
-        ms = "absent" if row["ms_per_step"] is None else f"{row['ms_per_step']:.3f} ms"
-        growth = f"  ×{row['growth_vs_half_n']:.1f}" if row["growth_vs_half_n"] else ""
-        out.append(f"  {row['mode']:<6} n={row['n']:<4} {ms}{growth}")
+        growth = f"  ×{row['growth_vs_half_n']:.1f} for 2× n" if row["growth_vs_half_n"] else ""
+        out.append(f"  {row['method']:<6} n={row['n']:<4} {row['ms_per_substep']:.3f} ms "
+                   f"[{row['ms_min']:.3f}–{row['ms_max']:.3f}], {row['pairs']} pairs{growth}")
     if "breakdown" in r:
         b = r["breakdown"]
         out += ["", f"Breakdown of {b['scene']} ({b['particles']} particles, {b['substeps']} "
@@ -131,7 +165,9 @@ def format_report(r: dict) -> str:
             out.append(f"  {e['effect']:<28} {e['ms_per_frame']:>8.3f} ms/frame "
                        f"{e['share']:>6.1%}")
     for key, title in (("render", "Render"), ("frame_pipeline", "Frame pipeline")):
-        rows = r.get(key)
+        if key not in r:
+            continue
+        rows = r[key]
         out += ["", title]
         if isinstance(rows, dict):
             out.append(f"  unavailable: {rows.get('unavailable')}")

@@ -22,8 +22,9 @@ def bench_frames(quick: bool = False) -> list[dict]:
     cols, rows = PREVIEW_CELLS
     width, height = cols * SCALE, 2 * rows * SCALE
     # 128² at a fixed 4 substeps: the adaptive default would spend ~50 on its fall (docs/physics.md)
-    cases = [("default", {}), ("default 128×128", {"cloth.resolution": 128,
-                                                   "behavior.adaptive": False})]
+    cases = [("default", {}),
+             ("default 128×128", {"cloth.resolution": 128, "behavior.adaptive": False}),
+             ("default 256×256", {"cloth.resolution": 256, "behavior.adaptive": False})]
     frames = 30 if quick else 120
     out = []
     for label, overrides in cases:

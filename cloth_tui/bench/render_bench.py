@@ -24,14 +24,14 @@ def _snapshots(resolution: int):
     return scene, (a, sim.snapshot())
 
 
-def bench_render(quick: bool = False) -> list[dict]:
+def bench_render(quick: bool = False, sheets: tuple = SHEETS) -> list[dict]:
     """ms per frame for each sheet × image size: the median over timed blocks after a
     warm-up, with the fastest and slowest block as the spread."""
     from ..render.renderer import Renderer
 
     blocks, per_block = (3, 5) if quick else (7, 10)
     rows = []
-    for n in SHEETS:
+    for n in sheets:
         scene, snaps = _snapshots(n)
         renderer = Renderer(scene, SIZES[0])
         try:

@@ -51,3 +51,27 @@ def first_call_s(fn: Callable[[], None]) -> float:
     t0 = time.perf_counter()
     fn()
     return time.perf_counter() - t0
+
+
+def time_alternating(fns: dict[str, Callable[[], None]], *, block_s: float = 0.1,
+                     blocks: int = 5, warmup: int = 2,
+                     clock: Callable[[], float] = time.perf_counter) -> dict[str, Timing]:
+    """Per-call time of each of `fns`, their blocks taken in turn (A, B, C, A, B, C, …) so
+    that a change in the machine's load hits all alike. `clock` = time.thread_time measures
+    the CPU time of this thread instead of wall time: for one-thread comparisons on a
+    machine that others share."""
+    calls, times = {}, {name: [] for name in fns}
+    for name, fn in fns.items():
+        for _ in range(warmup):
+            fn()
+        t0 = clock()
+        fn()
+        calls[name] = max(1, int(block_s / max(clock() - t0, 1e-7)))
+    for _ in range(blocks):
+        for name, fn in fns.items():
+            t0 = clock()
+            for _ in range(calls[name]):
+                fn()
+            times[name].append((clock() - t0) / calls[name])
+    return {name: Timing(statistics.median(t), min(t), max(t), blocks, calls[name])
+            for name, t in times.items()}

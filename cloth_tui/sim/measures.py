@@ -57,6 +57,22 @@ def max_stretch(x, edges, rest, alive) -> float:
 
 
 @kernel(fastmath=False)
+def fastest_free_speed(x, v, inv_mass) -> float:
+    """max |v component| over the free particles (inv_mass > 0), m/s; NaN if any position or
+    velocity is not finite. One pass, no temporary arrays: the runner's check of every frame
+    (a masked NumPy version took 0.75 ms at 128², 12 % of the frame)."""
+    fastest = 0.0
+    for i in range(x.shape[0]):
+        for k in range(3):
+            if not (math.isfinite(x[i, k]) and math.isfinite(v[i, k])):
+                return math.nan
+            s = abs(v[i, k])
+            if inv_mass[i] > 0.0 and s > fastest:
+                fastest = s
+    return fastest
+
+
+@kernel(fastmath=False)
 def spring_energy(x, edges, rest, alive, k) -> float:
     """Σ ½ k (L − L0)² over the intact constraints, J."""
     total = 0.0

@@ -5,6 +5,7 @@ publishing immutable snapshots."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import threading
 import time
 from collections import deque
@@ -15,8 +16,8 @@ import numpy as np
 
 from ..scene import Behavior, Scene, integrator_for
 from . import pipeline
-from .measures import (constraint_error, elastic_energy, energy, gravitational_energy,
-                       kinetic_energy, max_stretch, stretch)
+from .measures import (constraint_error, elastic_energy, energy, fastest_free_speed,
+                       gravitational_energy, kinetic_energy, max_stretch, stretch)
 from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
 from .substep_control import SubstepController
@@ -94,7 +95,6 @@ class Simulation:
             self.model = build_model(scene.cloth, b)
             self.state = ClothState.from_model(self.model)
             self._good = self.state.copy()  # the state before the current frame
-            self._free = self.model.inv_mass > 0.0  # pins move as prescribed, however fast
             self.frames = 0
             self.wall_s = 0.0
             self.last_step_s = 0.0
@@ -137,7 +137,7 @@ class Simulation:
         if self.halted:
             return
         t0 = time.perf_counter()
-        if self.state.is_finite():  # (a state broken between frames falls back further)
+        if not math.isnan(self._fastest()):  # finite (a state broken between frames falls back further)
             self._good.restore(self.state)  # the frame's start, with bumps since the last
         e0 = self._energy_scale() if self._watch_energy() else None
         self.step.frame(self.state)
@@ -185,17 +185,19 @@ class Simulation:
         scale = float(m.mass.sum()) * g * m.size + internal + 1e-12
         return internal + gravitational_energy(m, st, sc), scale
 
+    def _fastest(self) -> float:
+        """Fastest velocity component of a free particle; NaN if the state is not finite."""
+        return fastest_free_speed(self.state.x, self.state.v, self.model.inv_mass)
+
     def _healthy(self, e0: tuple[float, float] | None) -> bool:
         """Finite, no runaway speed, and (springs only) no energy gained from nowhere and, for
         explicit integrators, no spring at over twice its rest length. Position-based solvers
         keep speeds clamped and may legitimately stretch a lot at few iterations; a force-based
         integrator going unstable shows as stretch or as energy, since its speeds are clamped
         too."""
-        if not self.state.is_finite():
-            return False
         b = self.scene.behavior
-        fastest = float(np.max(np.abs(self.state.v[self._free]), initial=0.0))
-        if fastest > RUNAWAY_SPEED * b.max_speed:
+        fastest = self._fastest()
+        if not fastest <= RUNAWAY_SPEED * b.max_speed:  # NaN: not finite
             return False
         if b.solver != "springs":
             return True

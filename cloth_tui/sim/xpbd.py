@@ -16,16 +16,16 @@ steps: one kernel serves both solvers (Ten Minute Physics' form).
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
-from numba import prange
 
+from .grid_sweeps import (COINCIDENT, color_starts, lane_grid, lane_masses, sweep_grid_colors,
+                          sweep_grid_colors_parallel)
 from .jit import kernel
+from .threads import KernelChoice
 
 # Below this many constraints per colour, thread start-up costs more than it saves.
 PARALLEL_MIN_PER_COLOR = 4096
-COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 
 
 @kernel(inline="always")
@@ -79,43 +79,19 @@ def project_constraints(x, inv_mass, edges, rest, alive, color_offsets, lam, alp
         else:
             for e in range(edges.shape[0]):
                 if alive[e]:
-                        lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
+                    lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e],
                                            lam[e], alpha_t)
 
 
-@kernel(parallel=True)
-def project_constraints_parallel(x, inv_mass, edges, rest, alive, color_offsets, lam,
-                                 alpha_t, iterations):
-    """Same projection; the constraints of one colour share no particle, so each colour is
-    split across threads without races."""
-    lam[:] = 0.0
-    for _ in range(iterations):
-        for c in range(color_offsets.shape[0] - 1):
-            if alpha_t == 0.0:
-                for e in prange(color_offsets[c], color_offsets[c + 1]):
-                    if alive[e]:
-                        _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], 0.0,
-                                     0.0)
-            else:
-                for e in prange(color_offsets[c], color_offsets[c + 1]):
-                    if alive[e]:
-                        lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1],
-                                               rest[e], lam[e], alpha_t)
-
-
 class ProjectConstraints:
-    """Projects the constraints with the serial or the parallel kernel, whichever is faster
-    now. Two threads win on an idle machine at large sheets; when the render and UI threads
-    (or anything else) hold the other core, a parallel kernel waits at every colour's barrier
-    and loses several times over. So the choice is measured, not assumed: the other kernel is
-    re-timed every PROBE_EVERY calls.
+    """Projects the constraints with grid_sweeps' colour sweeps, on one thread or two as
+    threads.KernelChoice measures best now. `project_constraints` above is the same update
+    as a plain loop over model.edges: the reference the sweeps are tested against, and the
+    bench's serial peer.
 
     `lambdas` holds the multipliers λ of the last substep, N·s², one per constraint in
     model.edges order (the constraint force is λ/h²); zero for PBD (α = 0), which does not
-    keep them."""
-
-    PROBE_EVERY = 64
-    SMOOTHING = 0.2  # weight of the newest timing in the running cost estimate
+    keep them (the sweeps write PBD's into a scratch array)."""
 
     def __init__(self, model, iterations: int, compliance: float, h: float, name: str):
         self.name = name
@@ -123,34 +99,25 @@ class ProjectConstraints:
         self.iterations = iterations
         self.alpha_t = compliance / (h * h)
         self.lambdas = np.zeros(model.num_constraints)
+        self._lam = self.lambdas if self.alpha_t else np.zeros(model.num_constraints)
+        n = model.n
+        self._starts = color_starts(model.edges, model.color_offsets, n)
+        self._inv_mass = lane_masses(model.inv_mass, n)
+        self._grid = lane_grid(n)  # structure-of-arrays positions, scratch
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
-        self.kernels = [project_constraints]
-        if per_color >= PARALLEL_MIN_PER_COLOR:
-            self.kernels.append(project_constraints_parallel)
-        self.cost = [0.0] * len(self.kernels)  # seconds per call, latest estimate
-        self.choice = len(self.kernels) - 1
-        self.calls = 0
+        self.kernels = KernelChoice(
+            sweep_grid_colors,
+            sweep_grid_colors_parallel if per_color >= PARALLEL_MIN_PER_COLOR else None)
 
     @property
     def kernel_name(self) -> str:
-        return self.kernels[self.choice].__name__
+        return self.kernels.kernel_name
+
+    @property
+    def threads(self) -> int:
+        return self.kernels.threads
 
     def apply(self, state, h):
         m = self.model
-        args = (state.x, m.inv_mass, m.edges, m.rest_length, state.alive, m.color_offsets,
-                self.lambdas,
-                self.alpha_t, self.iterations)
-        if len(self.kernels) == 1:
-            self.kernels[0](*args)
-            return
-        self.calls += 1
-        k = self.choice
-        if self.calls % self.PROBE_EVERY == 0 or not all(self.cost):
-            k = next((i for i, c in enumerate(self.cost) if not c), 1 - self.choice)
-        t0 = time.perf_counter()
-        self.kernels[k](*args)
-        dt = time.perf_counter() - t0
-        w = self.SMOOTHING
-        self.cost[k] = dt if k != self.choice or not self.cost[k] else \
-            (1.0 - w) * self.cost[k] + w * dt
-        self.choice = int(self.cost[1] < self.cost[0]) if all(self.cost) else self.choice
+        self.kernels(state.x, self._inv_mass, m.rest_length, state.alive, self._lam,
+                     self._starts, self.alpha_t, self.iterations, self._grid)

@@ -27,6 +27,7 @@ from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
+from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
 from .commands import SceneCommands
@@ -359,6 +360,13 @@ class ClothApp(App):
         if self.sim is not None:
             self.sim.pause(not self.sim.paused)
         self._refresh_status()
+
+    def action_one_thread(self) -> None:
+        """Physics on one thread, or back to the measured serial/parallel choice."""
+        one = toggle_single_thread()
+        self.notify("Physics on one thread" if one else
+                    "Physics threads: one or two, whichever is measured faster")
+        self._log_key("one_thread")
 
     def action_restart(self) -> None:
         if self.sim is None or self.sim.error is not None:  # the thread died: a new one

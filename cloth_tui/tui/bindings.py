@@ -9,7 +9,8 @@ ZOOM_STEP = 1.25
 VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse drags)
 # Actions a focused text field or open dropdown keeps for itself (it needs those keys).
 TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake", "save_scene",
-                     "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera"}
+                     "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera",
+                     "one_thread"}
 
 APP_BINDINGS = [
     Binding("q", "quit", "Quit", priority=True),
@@ -22,6 +23,7 @@ APP_BINDINGS = [
     Binding("e", "bake", "Bake USD", priority=True, show=False),
     Binding("s", "save_scene", "Save", priority=True),
     Binding("c", "toggle_controls", "Controls", priority=True),
+    Binding("t", "one_thread", "One thread", priority=True, show=False),
     Binding("up", "bump(0, 1, 0)", "Bump", priority=True, key_display="←↑↓→⇞⇟"),
     Binding("down", "bump(0, -1, 0)", "Bump down", priority=True, show=False),
     Binding("left", "bump(-1, 0, 0)", "Bump left", priority=True, show=False),

@@ -45,3 +45,21 @@ def test_numpy_baseline_matches_compiled_step_at_the_speed_clamp(n):
     assert 0.99 * max_speed <= top_speed < 1.1 * max_speed  # reached, and held by the clamp
     np.testing.assert_allclose(b.x, a.x, atol=1e-9)
     np.testing.assert_allclose(b.v, a.v, atol=1e-6)
+
+
+@pytest.mark.parametrize("n", [5, 12, 17])
+def test_serial_peer_matches_compiled_step(n):
+    # The bench's serial numba loop must do the project's work, or its ratio means nothing.
+    from cloth_tui.bench.serial_step import SerialStep
+
+    scene = bare_scene(n, iterations=3)
+    model = build_model(scene.cloth, scene.behavior)
+    step = pipeline.build(scene, model)
+    a, b = ClothState.from_model(model), ClothState.from_model(model)
+    peer = SerialStep(model, step.h, 3, scene.behavior.damping, 9.81, scene.behavior.max_speed)
+    for _ in range(50):
+        step.substep(a)
+        peer.substep(b)
+    assert np.abs(a.x - model.rest_positions).max() > 1e-3
+    np.testing.assert_allclose(b.x, a.x, atol=1e-9)
+    np.testing.assert_allclose(b.v, a.v, atol=1e-6)

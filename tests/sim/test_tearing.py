@@ -193,30 +193,21 @@ def test_a_torn_sheet_still_collides_with_objects_and_itself():
     assert sim.model.mass.sum() == pytest.approx(s.cloth.mass)
 
 
-def test_serial_and_parallel_projection_skip_the_same_torn_constraints():
+def test_a_particle_whose_every_constraint_is_torn_is_left_where_it_was():
+    # Through the solver's own projection (grid_sweeps' colour sweeps, serial or parallel as
+    # chosen); tests/sim/test_grid_sweeps.py checks the sweeps skip exactly the torn
+    # constraints the plain loop skips, for both kernels.
     from cloth_tui.sim import xpbd
+    from cloth_tui.sim.state import ClothState
     s = Scene()
     s.cloth.resolution = 40
     m = build_model(s.cloth, s.behavior)
     rng = np.random.default_rng(2)
-    x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
-    alive = (rng.random(m.num_constraints) > 0.3).astype(np.uint8)
-    for alpha_t in (0.0, 50.0):
-        a, b = x0.copy(), x0.copy()
-        lam_a, lam_b = np.zeros(m.num_constraints), np.zeros(m.num_constraints)
-        xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive,
-                                 m.color_offsets, lam_a, alpha_t, 3)
-        xpbd.project_constraints_parallel(b, m.inv_mass, m.edges, m.rest_length, alive,
-                                          m.color_offsets, lam_b, alpha_t, 3)
-        np.testing.assert_allclose(a, b, atol=1e-12)
-        np.testing.assert_allclose(lam_a, lam_b, atol=1e-12)
-        assert (lam_a[alive == 0] == 0.0).all()
-    # a particle whose every constraint is torn is left where it was
+    state = ClothState.from_model(m)
+    state.x += rng.normal(scale=0.01, size=state.x.shape)
+    x0 = state.x.copy()
     e, mid = m.edges, 20 * 40 + 20  # a free particle
-    alive[:] = 1
-    alive[(e[:, 0] == mid) | (e[:, 1] == mid)] = 0
-    a = x0.copy()
-    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive, m.color_offsets,
-                             np.zeros(m.num_constraints), 0.0, 3)
-    np.testing.assert_array_equal(a[mid], x0[mid])
-    assert np.abs(a[mid + 1] - x0[mid + 1]).max() > 0.0
+    state.alive[(e[:, 0] == mid) | (e[:, 1] == mid)] = 0
+    xpbd.ProjectConstraints(m, 3, 0.0, 1e-3, "pbd").apply(state, 1e-3)
+    np.testing.assert_array_equal(state.x[mid], x0[mid])
+    assert np.abs(state.x[mid + 1] - x0[mid + 1]).max() > 0.0

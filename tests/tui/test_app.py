@@ -254,3 +254,20 @@ def test_run_app_refuses_unusable_captures_dir(tmp_path, capsys):
     assert run_app(Scene(), blocker / "caps") == 2
     err = capsys.readouterr().err
     assert "captures" in err and len(err.strip().splitlines()) == 1
+
+
+def test_t_key_keeps_the_physics_on_one_thread(tmp_path):
+    from cloth_tui.sim import threads
+
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            try:
+                await pilot.press("t")
+                assert threads.single_thread_forced()
+                assert "Physics on one thread" in notifications(app)
+                await pilot.press("t")
+                assert not threads.single_thread_forced()
+            finally:
+                threads.force_single_thread(False)
+    run(go())

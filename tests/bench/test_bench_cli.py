@@ -1,0 +1,39 @@
+"""`cloth-tui bench` runs and reports (tiny sizes, no render): its numbers are not tested."""
+
+import json
+
+from cloth_tui.cli import main
+
+
+def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
+    assert main(["bench", "--quick", "--sizes", "6,8", "--no-render", "--contended",
+                 "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    for part in ("quiet", "contended"):
+        rows = r[part]["step"]
+        assert [s["n"] for s in rows] == [6, 8]
+        for s in rows:
+            for key in ("step", "kernel", "serial_loop"):
+                assert s[key]["per_s_min"] <= s[key]["per_s"] <= s[key]["per_s_max"]
+            assert 0.0 <= s["parallel_share"] <= 1.0
+        assert r[part]["frames"]["n"] == 8 and r[part]["frames"]["adaptive"] is False
+    assert "numpy" in r["quiet"]["step"][0] and "numpy" not in r["contended"]["step"][0]
+    assert {row["method"] for row in r["self_collision"]} == {"naive", "hash"}
+    assert all(row["pairs"] > 0 for row in r["self_collision"])  # crumpled, not flat
+    assert "render" not in r
+
+
+def test_bench_text_report_labels_whole_step_and_kernel(capsys):
+    assert main(["bench", "--quick", "--sizes", "5", "--no-render"]) == 0
+    out = capsys.readouterr().out
+    assert "whole step" in out and "kernel alone" in out and "serial numba loop" in out
+    assert "simulated frames per wall second" in out and "load average" in out
+
+
+def test_bad_sizes_and_thread_limit_are_one_line_errors(capsys, monkeypatch):
+    assert main(["bench", "--sizes", "2,x"]) == 2
+    assert "--sizes" in capsys.readouterr().err
+    monkeypatch.setenv("CLOTH_TUI_THREADS", "lots")
+    assert main(["scenes"]) == 2
+    err = capsys.readouterr().err
+    assert "CLOTH_TUI_THREADS" in err and "Traceback" not in err and err.count("\n") == 1

@@ -1,0 +1,123 @@
+import numpy as np
+import pytest
+
+from cloth_tui.scene import Scene
+from cloth_tui.sim import grid_sweeps, xpbd
+from cloth_tui.sim.model import build_model
+
+
+def _model(n, families=(True, True, True), pinned="corners"):
+    s = Scene()
+    s.cloth.resolution = n
+    s.cloth.pinned = pinned
+    s.behavior.structural, s.behavior.shear, s.behavior.bending = families
+    return build_model(s.cloth, s.behavior)
+
+
+def _intact(m):
+    return np.ones(m.num_constraints, np.uint8)
+
+
+def _sweep(kernel, m, x, alpha_t, iterations=3, alive=None):
+    lam = np.zeros(m.num_constraints)
+    starts = grid_sweeps.color_starts(m.edges, m.color_offsets, m.n)
+    alive = _intact(m) if alive is None else alive
+    kernel(x, grid_sweeps.lane_masses(m.inv_mass, m.n), m.rest_length, alive, lam, starts,
+           alpha_t, iterations, grid_sweeps.lane_grid(m.n))
+    return lam
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 7, 9, 40])
+@pytest.mark.parametrize("kernel", [grid_sweeps.sweep_grid_colors,
+                                    grid_sweeps.sweep_grid_colors_parallel])
+@pytest.mark.parametrize("alpha_t", [0.0, 0.5])
+def test_sweeps_match_the_plain_loop(n, kernel, alpha_t):
+    # Same update, same order inside each colour's conflict-free set: the same positions
+    # and (XPBD) multipliers as the loop over model.edges, for every n mod 4.
+    m = _model(n, pinned="one_edge")
+    rng = np.random.default_rng(n)
+    x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
+    a, b = x0.copy(), x0.copy()
+    lam_ref = np.zeros(m.num_constraints)
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, _intact(m),
+                             m.color_offsets, lam_ref, alpha_t, 3)
+    lam = _sweep(kernel, m, b, alpha_t)
+    np.testing.assert_allclose(b, a, atol=1e-12)
+    if alpha_t:
+        np.testing.assert_allclose(lam, lam_ref, atol=1e-12)
+    assert np.abs(b - x0).max() > 1e-4
+
+
+@pytest.mark.parametrize("kernel", [grid_sweeps.sweep_grid_colors,
+                                    grid_sweeps.sweep_grid_colors_parallel])
+@pytest.mark.parametrize("alpha_t", [0.0, 0.5])
+def test_sweeps_skip_torn_constraints_as_the_plain_loop_does(kernel, alpha_t):
+    # Tearing (tearing.py) clears alive[e]: the sweeps must leave exactly those constraints
+    # out, with their multipliers at zero, as the reference loop does.
+    m = _model(13, pinned="one_edge")
+    rng = np.random.default_rng(7)
+    alive = (rng.random(m.num_constraints) > 0.3).astype(np.uint8)
+    x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
+    a, b, c = x0.copy(), x0.copy(), x0.copy()
+    lam_ref = np.zeros(m.num_constraints)
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, alive, m.color_offsets,
+                             lam_ref, alpha_t, 3)
+    lam = _sweep(kernel, m, b, alpha_t, alive=alive)
+    np.testing.assert_allclose(b, a, atol=1e-12)
+    assert not lam[alive == 0].any()
+    if alpha_t:  # PBD's λ goes to a scratch array the plain loop does not write
+        np.testing.assert_allclose(lam, lam_ref, atol=1e-12)
+    _sweep(kernel, m, c, alpha_t)  # all intact: a different answer, so the mask was read
+    assert np.abs(c - b).max() > 1e-4
+
+
+@pytest.mark.parametrize("families", [(True, False, False), (False, True, False),
+                                      (False, False, True), (True, False, True)])
+def test_sweeps_with_families_switched_off(families):
+    m = _model(11, families, pinned="one_edge")
+    x0 = m.rest_positions + np.random.default_rng(0).normal(scale=0.01, size=(121, 3))
+    a, b = x0.copy(), x0.copy()
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, _intact(m),
+                             m.color_offsets, np.zeros(m.num_constraints), 0.0, 2)
+    _sweep(grid_sweeps.sweep_grid_colors, m, b, 0.0, 2)
+    np.testing.assert_allclose(b, a, atol=1e-12)
+
+
+def test_color_starts_rejects_edges_not_in_grid_order():
+    m = _model(6)
+    edges = m.edges.copy()
+    lo, hi = m.color_offsets[2], m.color_offsets[3]
+    edges[lo:hi] = edges[lo:hi][::-1]
+    with pytest.raises(ValueError, match="order"):
+        grid_sweeps.color_starts(edges, m.color_offsets, m.n)
+
+
+def test_color_starts_rejects_a_constraint_between_far_particles():
+    m = _model(6)
+    edges = m.edges.copy()
+    edges[0] = (0, 14)
+    with pytest.raises(ValueError, match="grid neighbours"):
+        grid_sweeps.color_starts(edges, m.color_offsets, m.n)
+
+
+def test_crushed_pair_separates_along_its_rest_direction():
+    m = _model(3, pinned="none")
+    x = np.zeros((9, 3))  # every particle at one point
+    _sweep(grid_sweeps.sweep_grid_colors, m, x, 0.0, 1)
+    assert np.isfinite(x).all()
+    assert np.ptp(x[:, 0]) > 0.1 and np.ptp(x[:, 2]) > 0.1
+
+
+@pytest.mark.parametrize("kernel", [grid_sweeps.sweep_grid_colors,
+                                    grid_sweeps.sweep_grid_colors_parallel])
+def test_coincident_ends_move_as_in_the_plain_loop(kernel):
+    # Crushed pairs take the loop's pair-dependent direction (a second, scalar pass).
+    m = _model(9, pinned="none")
+    x0 = m.rest_positions.copy()
+    x0[10] = x0[11] = x0[20] = x0[19]  # a horizontal, a vertical and a shear pair crushed
+    x0[40:45] = x0[40]
+    a, b = x0.copy(), x0.copy()
+    xpbd.project_constraints(a, m.inv_mass, m.edges, m.rest_length, _intact(m),
+                             m.color_offsets, np.zeros(m.num_constraints), 0.0, 2)
+    _sweep(kernel, m, b, 0.0, 2)
+    np.testing.assert_allclose(b, a, atol=1e-12)

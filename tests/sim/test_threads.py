@@ -1,0 +1,115 @@
+import time
+
+import pytest
+
+from cloth_tui.sim import threads
+
+
+class Recorder:
+    """A kernel that records its calls and takes `seconds` of busy CPU time."""
+
+    def __init__(self, name, seconds=0.0):
+        self.__name__ = name
+        self.seconds = seconds
+        self.calls = 0
+
+    def __call__(self, *args):
+        self.calls += 1
+        end = time.perf_counter() + self.seconds
+        while time.perf_counter() < end:
+            pass
+
+
+@pytest.fixture(autouse=True)
+def _cores(monkeypatch):
+    monkeypatch.setattr(threads, "usable_cores", lambda: 2)
+    monkeypatch.setattr(threads, "load_average", lambda: 0.5)
+    # judge by the timings alone: on a loaded test machine even a spinning serial kernel
+    # gets preempted (test_preempted_serial_kernel_means_no_parallel_try checks that rule)
+    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
+    monkeypatch.delenv(threads.ENV_THREADS, raising=False)
+    yield
+    threads.force_single_thread(False)
+
+
+def test_env_var_keeps_one_thread(monkeypatch):
+    monkeypatch.setenv(threads.ENV_THREADS, "1")
+    serial, parallel = Recorder("s"), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(300):
+        choice()
+    assert parallel.calls == 0 and serial.calls == 300 and choice.threads == 1
+
+
+def test_forced_single_thread_keeps_one_thread():
+    threads.force_single_thread(True)
+    serial, parallel = Recorder("s"), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(300):
+        choice()
+    assert parallel.calls == 0
+
+
+@pytest.mark.parametrize("value", ["0", "two", "-1", "1.5"])
+def test_bad_env_value_is_named(monkeypatch, value):
+    monkeypatch.setenv(threads.ENV_THREADS, value)
+    with pytest.raises(ValueError, match="CLOTH_TUI_THREADS"):
+        threads.env_threads()
+
+
+def test_losing_parallel_kernel_is_tried_ever_more_rarely():
+    # The parallel kernel takes 20 ms, the serial none: every try loses and the wait doubles.
+    serial, parallel = Recorder("s"), Recorder("p", 0.02)
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(2000):
+        choice()
+    assert 1 <= parallel.calls <= 9  # tries after 8, 24, 56, 120, …: log2 of the calls
+    assert choice.threads == 1 and choice.kernel_name == "s"
+
+
+def test_one_core_means_serial(monkeypatch):
+    monkeypatch.setattr(threads, "usable_cores", lambda: 1)
+    serial, parallel = Recorder("s"), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(100):
+        choice()
+    assert parallel.calls == 0
+
+
+def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch):
+    serial, parallel = Recorder("s", 0.01), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(40):
+        choice()
+    assert choice.threads == 2 and choice.kernel_name == "p"
+    parallel.seconds = 0.05  # the other core got busy: barriers stall
+    choice()
+    assert choice.threads == 1
+    before = parallel.calls
+    for _ in range(10):
+        choice()
+    assert parallel.calls == before  # backed off
+
+
+def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
+    monkeypatch.setattr(threads, "load_average", lambda: 3.0)
+    serial, parallel = Recorder("s", 0.002), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls == 0
+
+
+def test_preempted_serial_kernel_means_no_parallel_try(monkeypatch):
+    # A kernel that got a fraction of its wall time on the CPU (here it sleeps: the extreme
+    # of preemption) shows a machine with no idle core: the parallel kernel is not tried.
+    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.8)
+
+    def sleepy():
+        time.sleep(0.002)
+    sleepy.__name__ = "s"
+    parallel = Recorder("p")
+    choice = threads.KernelChoice(sleepy, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls == 0 and choice.contended
