@@ -21,19 +21,19 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
-from ..render.capture import timestamped
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
-from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
 from .bake_key import BakeKey
-from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
+from .bindings import APP_BINDINGS, TEXT_KEYS_ACTIONS
+from .capture_actions import CaptureActions
 from .commands import SceneCommands
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panels import Controls, SettingField
 from .preview import Preview
 from .status import Readout, StatusBar
+from .view_actions import ViewActions
 
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
 # Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
@@ -45,7 +45,7 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(App):
+class ClothApp(ViewActions, CaptureActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
@@ -188,26 +188,6 @@ class ClothApp(App):
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
 
-    def _place_crosshair(self) -> bool:
-        """Put the crosshair on the particle nearest the middle of the sheet, by picking a
-        coarse grid of image points (pick is cheap). False if no particle is visible yet."""
-        n = self.scene.cloth.resolution
-        best, best_d = None, None
-        for i in range(1, 24):
-            for j in range(1, 24):
-                uv = (i / 24, j / 24)
-                p = self.renderer.pick(*uv)
-                if p is None:
-                    continue
-                d = abs(p // n - (n - 1) / 2) + abs(p % n - (n - 1) / 2)
-                if best_d is None or d < best_d:
-                    best, best_d = uv, d
-        if best is None:
-            return False
-        self.preview.crosshair = best
-        self.preview.move_crosshair(0, 0)
-        return True
-
     def on_sim_died(self, message: SimDied) -> None:
         err = message.error
         text = f"{type(err).__name__}: {err}" if err else "unknown error"
@@ -223,49 +203,9 @@ class ClothApp(App):
         self.notify(f"No preview: {reason}", severity="error", timeout=30)
         self._refresh_status()
 
-    def on_captured(self, message: Captured) -> None:
-        ev = message.event
-        if ev.kind == "unavailable":
-            self._show_no_preview(ev.message)
-        elif ev.kind == "error":
-            self.notify(ev.message or "capture failed", title="Capture failed",
-                        severity="error", timeout=10)
-        elif ev.kind == "screenshot":
-            self.notify(f"Screenshot saved: {ev.path}")
-        elif ev.kind == "video_started":
-            self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
-        elif ev.kind == "video_saved":
-            self.notify(f"Video saved: {ev.path}")
-        elif ev.kind == "video_empty":
-            self.notify(f"Nothing recorded: {ev.message}", severity="warning")
-        elif ev.kind == "notice":
-            self.notify(ev.message, severity="warning", timeout=10)
-        self._refresh_status()
-
     def on_preview_resized(self, message: Preview.Resized) -> None:
         if self.renderer is not None:
             self.renderer.resize(message.width, message.height)
-
-    def on_preview_grab(self, message: Preview.Grab) -> None:
-        self._grabbed = self.renderer.pick(message.u, message.v) if self.renderer else None
-
-    def on_preview_drag(self, message: Preview.Drag) -> None:
-        """Move the grabbed particle with the pointer: in the camera's view plane at its
-        depth, so the drag follows any orbit (the renderer's last camera, NumPy only). Before
-        a first frame, a fixed front-view scale."""
-        if self._grabbed is None:
-            return
-        d = None
-        if self.renderer is not None:
-            d = self.renderer.screen_delta_to_world(self._grabbed, message.du, message.dv)
-        if d is None:
-            span = VIEW_SPAN * self.scene.cloth.size / self._zoom
-            aspect = message.width_px / max(message.height_px, 1)
-            d = (message.du * span * aspect, -message.dv * span, 0.0)
-        self._bump(self._grabbed, d)
-
-    def on_preview_release(self, _: Preview.Release) -> None:
-        self._grabbed = None
 
     def on_setting_field_edited(self, message: SettingField.Edited) -> None:
         dotted = message.dotted
@@ -344,69 +284,6 @@ class ClothApp(App):
     def action_toggle(self, dotted: str) -> None:
         self.set_value(dotted, not self.scene.get(dotted))
         self._log_key(dotted)
-
-    def _bump(self, particle: int, d: tuple[float, float, float]) -> None:
-        if self.sim is not None:
-            self.sim.submit(lambda sim: sim.bump(particle, d))
-
-    def action_bump(self, dx: float, dy: float, dz: float) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot tell which particle is under the pointer",
-                        severity="warning")
-            return
-        u, v = self.preview.target
-        particle = self.renderer.pick(u, v)
-        if particle is None:
-            where = "pointer" if self.preview.pointer is not None else "crosshair (move: h j k l)"
-            self.notify(f"No particle under the {where}", severity="warning", timeout=1.5)
-            return
-        self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
-        self._log_key("bump")
-
-    def action_crosshair(self, dcol: int, drow: int) -> None:
-        self.preview.move_crosshair(dcol, drow)
-
-    def action_orbit(self, d_az: float, d_el: float) -> None:
-        if self.renderer is not None:
-            self.renderer.orbit(d_az * ORBIT_DEG, d_el * ORBIT_DEG)
-            self._log_key("orbit")
-
-    def action_zoom(self, direction: int) -> None:
-        factor = ZOOM_STEP if direction > 0 else 1 / ZOOM_STEP
-        self._zoom *= factor
-        if self.renderer is not None:
-            self.renderer.zoom(factor)
-            self._log_key("zoom")
-
-    def action_reset_camera(self) -> None:
-        self._zoom = 1.0
-        if self.renderer is not None:
-            self.renderer.reset_camera()
-
-    def action_screenshot(self) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot take a screenshot", severity="error")
-        else:
-            self.renderer.screenshot()
-
-    def action_video(self) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot record", severity="error")
-        else:
-            self.renderer.toggle_recording()
-
-    def action_bake(self) -> None:
-        self.bake.toggle(self.sim.latest if self.sim is not None else None)
-        self._refresh_status()
-
-    def action_save_scene(self) -> None:
-        path = timestamped(self.captures_dir, "scene", ".toml")  # -2, -3… within a second
-        try:
-            save_scene(self.scene, path)
-        except SceneError as e:
-            self.notify(str(e), title="Save failed", severity="error")
-            return
-        self.notify(f"Scene saved: {path}")
 
     def action_toggle_controls(self) -> None:
         controls = self.controls

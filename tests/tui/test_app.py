@@ -7,7 +7,8 @@ import pytest
 from textual.widgets import Collapsible, Input, Select, Switch
 
 from cloth_tui.scene import Scene, all_keys, load
-from cloth_tui.tui.app import BUMP_M, run_app
+from cloth_tui.tui.app import run_app
+from cloth_tui.tui.bindings import BUMP_M
 from cloth_tui.tui.panels import all_panel_keys, widget_id
 from cloth_tui.tui.preview import SCALE
 

@@ -1,0 +1,105 @@
+"""The app's view and pointer actions: orbit, zoom and reset the camera, move the crosshair,
+bump the particle under the pointer or crosshair, and drag one with the mouse. A mixin of
+`ClothApp`, which owns the renderer, the simulation thread and the preview."""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+from ..scene import Scene
+from ..sim.runner import SimulationThread
+from .bindings import BUMP_M, ORBIT_DEG, VIEW_SPAN, ZOOM_STEP
+from .preview import Preview
+
+
+class ViewActions:
+    """Needs from the app: `scene`, `sim`, `renderer` (or None), `preview`, `notify` and
+    `_log_key`; keeps `_zoom` and `_grabbed`."""
+
+    scene: Scene
+    sim: SimulationThread | None
+    renderer: Any
+    preview: Preview
+    notify: Callable[..., None]
+    _log_key: Callable[[str], None]
+    _zoom: float
+    _grabbed: int | None
+
+    def _place_crosshair(self) -> bool:
+        """Put the crosshair on the particle nearest the middle of the sheet, by picking a
+        coarse grid of image points (pick is cheap). False if no particle is visible yet."""
+        n = self.scene.cloth.resolution
+        best, best_d = None, None
+        for i in range(1, 24):
+            for j in range(1, 24):
+                uv = (i / 24, j / 24)
+                p = self.renderer.pick(*uv)
+                if p is None:
+                    continue
+                d = abs(p // n - (n - 1) / 2) + abs(p % n - (n - 1) / 2)
+                if best_d is None or d < best_d:
+                    best, best_d = uv, d
+        if best is None:
+            return False
+        self.preview.crosshair = best
+        self.preview.move_crosshair(0, 0)
+        return True
+
+    def on_preview_grab(self, message: Preview.Grab) -> None:
+        self._grabbed = self.renderer.pick(message.u, message.v) if self.renderer else None
+
+    def on_preview_drag(self, message: Preview.Drag) -> None:
+        """Move the grabbed particle with the pointer: in the camera's view plane at its
+        depth, so the drag follows any orbit (the renderer's last camera, NumPy only). Before
+        a first frame, a fixed front-view scale."""
+        if self._grabbed is None:
+            return
+        d = None
+        if self.renderer is not None:
+            d = self.renderer.screen_delta_to_world(self._grabbed, message.du, message.dv)
+        if d is None:
+            span = VIEW_SPAN * self.scene.cloth.size / self._zoom
+            aspect = message.width_px / max(message.height_px, 1)
+            d = (message.du * span * aspect, -message.dv * span, 0.0)
+        self._bump(self._grabbed, d)
+
+    def on_preview_release(self, _: Preview.Release) -> None:
+        self._grabbed = None
+
+    def _bump(self, particle: int, d: tuple[float, float, float]) -> None:
+        if self.sim is not None:
+            self.sim.submit(lambda sim: sim.bump(particle, d))
+
+    def action_bump(self, dx: float, dy: float, dz: float) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot tell which particle is under the pointer",
+                        severity="warning")
+            return
+        u, v = self.preview.target
+        particle = self.renderer.pick(u, v)
+        if particle is None:
+            where = "pointer" if self.preview.pointer is not None else "crosshair (move: h j k l)"
+            self.notify(f"No particle under the {where}", severity="warning", timeout=1.5)
+            return
+        self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
+        self._log_key("bump")
+
+    def action_crosshair(self, dcol: int, drow: int) -> None:
+        self.preview.move_crosshair(dcol, drow)
+
+    def action_orbit(self, d_az: float, d_el: float) -> None:
+        if self.renderer is not None:
+            self.renderer.orbit(d_az * ORBIT_DEG, d_el * ORBIT_DEG)
+            self._log_key("orbit")
+
+    def action_zoom(self, direction: int) -> None:
+        factor = ZOOM_STEP if direction > 0 else 1 / ZOOM_STEP
+        self._zoom *= factor
+        if self.renderer is not None:
+            self.renderer.zoom(factor)
+            self._log_key("zoom")
+
+    def action_reset_camera(self) -> None:
+        self._zoom = 1.0
+        if self.renderer is not None:
+            self.renderer.reset_camera()
