@@ -13,9 +13,11 @@ import os
 import signal
 import sys
 import time
+from collections import deque
 from pathlib import Path
 from typing import Any, Callable
 
+from textual import events
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Footer, Input
@@ -25,19 +27,22 @@ from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..sim.runner import SimulationThread
 from .bake_key import BakeKey
-from .bindings import APP_BINDINGS, TEXT_KEYS_ACTIONS
+from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
 from .commands import SceneCommands
+from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panels import Controls, SettingField
 from .preview import Preview
 from .status import Readout, StatusBar
-from .view_actions import ViewActions
+from .view_actions import ViewActions, typed_digit_notice
 
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
 # Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
 ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+WIDE_FROM = 120  # columns; below, the controls are a drawer and the status line is compact
+NARROW_CLASS = "-narrow"
 
 
 def default_renderer_factory(**kwargs):
@@ -51,6 +56,9 @@ class ClothApp(ViewActions, CaptureActions, App):
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
     COMMANDS = App.COMMANDS | {SceneCommands}
     BINDINGS = APP_BINDINGS
+    # Narrower than this, the controls are a drawer over the preview (`c`), which takes the
+    # width: at 80 columns a side panel would leave a 34-column picture.
+    HORIZONTAL_BREAKPOINTS = [(0, NARROW_CLASS), (WIDE_FROM, "-wide")]
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
@@ -72,6 +80,7 @@ class ClothApp(ViewActions, CaptureActions, App):
         self._frame_posted = False
         self._grabbed: int | None = None
         self._zoom = 1.0
+        self._view_log: deque[tuple[float, str]] = deque(maxlen=8)  # for typed_digit_notice
         self._stopped = False
         self._crosshair_placed = False
         self._no_preview: str | None = None  # why there are no pictures, once known
@@ -214,7 +223,7 @@ class ClothApp(ViewActions, CaptureActions, App):
             return  # refused: the field keeps focus for another try
         message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
         if message.submitted:
-            self.set_focus(None)  # Enter: the keys go back to the app
+            self.screen.focus_next()  # Enter: on to the next field
 
     def on_controls_command(self, message: Controls.Command) -> None:
         if message.command == "restart":
@@ -259,9 +268,20 @@ class ClothApp(ViewActions, CaptureActions, App):
 
     # -- actions --------------------------------------------------------------------------
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if isinstance(self.screen, HelpScreen):
+            return action in ("help", "quit")  # nothing acts unseen behind the help
         if action in TEXT_KEYS_ACTIONS and isinstance(self.focused, (Input, SelectOverlay)):
             return False  # let the field have the key
+        if action in CONTROL_KEYS_ACTIONS and self.focused is not None:
+            return False  # space toggles the focused switch, presses the focused button
         return True
+
+    def on_key(self, event: events.Key) -> None:
+        """A digit typed with no field focused was meant for a field: say so, and what the
+        view keys typed with it (`.` `,` `-` `+`) did, rather than orbit in silence."""
+        if event.character and event.character.isdigit() and self.focused is None:
+            self.notify(typed_digit_notice(event.character, self.recent_view_keys()),
+                        severity="warning", timeout=4)
 
     def _log_key(self, what: str) -> None:
         if self._debug is not None:
@@ -286,8 +306,15 @@ class ClothApp(ViewActions, CaptureActions, App):
         self._log_key(dotted)
 
     def action_toggle_controls(self) -> None:
-        controls = self.controls
-        controls.display = not controls.display
+        """Hide or show the side panel; on a narrow screen, open or close the drawer."""
+        narrow = self.screen.has_class(NARROW_CLASS)
+        self.query_one("#main").toggle_class("-drawer-open" if narrow else "-controls-hidden")
+
+    def action_help(self) -> None:
+        if isinstance(self.screen, HelpScreen):
+            self.pop_screen()
+        else:
+            self.push_screen(HelpScreen())
 
     def action_unfocus(self) -> None:
         self.set_focus(None)
@@ -311,7 +338,8 @@ class ClothApp(ViewActions, CaptureActions, App):
         recording = bool(self.renderer is not None and self.renderer.recording)
         paused = bool(self.sim is not None and self.sim.paused)
         text = self.readout.text(paused=paused, recording=recording,
-                                 iterations=b.iterations, substeps=b.substeps)
+                                 iterations=b.iterations, substeps=b.substeps,
+                                 compact=self.size.width < WIDE_FROM)
         if self._no_preview is not None:
             text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
         text = self.bake.status(text)

@@ -10,10 +10,11 @@ import re
 from typing import Any
 
 from textual.app import ComposeResult
+from textual.binding import Binding
 from textual.containers import Horizontal, VerticalScroll
 from textual.message import Message
 from textual.widget import Widget
-from textual.widgets import Button, Collapsible, Input, Label, Select, Switch
+from textual.widgets import Button, Collapsible, Input, Label, Select, Static, Switch
 
 from ..scene import SECTION_TYPES, Scene, key_spec
 
@@ -21,14 +22,12 @@ TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearanc
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
 SECTION_GROUP = {"cloth": "Scene", "forces": "Forces", "scene": "Scene",
                  "behavior": "Behavior", "appearance": "Appearance"}
-# Where the original placed a control in another folder than its scene section.
-MOVED = {"appearance.show_constraints": "Behavior"}
 
 
 def group_of(dotted: str) -> str:
     if dotted in TOP_KEYS:
         return "top"
-    return MOVED.get(dotted) or SECTION_GROUP[dotted.split(".")[0]]
+    return SECTION_GROUP[dotted.split(".")[0]]
 
 
 def keys_in(group: str) -> list[str]:
@@ -57,10 +56,11 @@ def format_value(value: Any) -> str:
     return str(value)
 
 
-def parse_text(dotted: str, text: str) -> Any:
+def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) -> Any:
     """Text of an Input → the Python value to validate. What cannot be parsed is returned as
-    the raw string, so the scene's validation produces the one-line message."""
-    f = key_spec(dotted)
+    the raw string, so the scene's validation produces the one-line message. `spec`: the
+    field's declaration, for keys outside the scene's sections (an object's)."""
+    f = spec or key_spec(dotted)
     kind = f.metadata["kind"]
     t = f.type if isinstance(f.type, str) else f.type.__name__
     text = text.strip()
@@ -84,15 +84,19 @@ def parse_text(dotted: str, text: str) -> Any:
     return text
 
 
-def label_text(dotted: str) -> str:
-    f = key_spec(dotted)
-    name = dotted.split(".")[1].replace("_", " ")
+def label_text(dotted: str, spec: dataclasses.Field | None = None) -> str:
+    f = spec or key_spec(dotted)
+    name = dotted.split(".")[-1].replace("_", " ")
     unit = f.metadata["unit"]
     return f"{name} [dim]({unit})[/]" if unit else name
 
 
 class SettingField(Horizontal):
-    """One scene key: a label (with unit) and the control for its type."""
+    """One scene key: a label (with unit) and the control for its type. Escape restores the
+    last good value and leaves the field; Enter (the app decides) applies and moves on."""
+
+    BINDINGS = [Binding("escape", "revert", "restore the last good value and leave the field",
+                        show=False)]
 
     class Edited(Message):
         """The user asks for `dotted` = `value` (not yet validated)."""
@@ -103,10 +107,11 @@ class SettingField(Horizontal):
             self.field, self.dotted, self.value = field, dotted, value
             self.submitted = submitted  # Enter in an Input (rather than leaving it)
 
-    def __init__(self, dotted: str, value: Any) -> None:
+    def __init__(self, dotted: str, value: Any,
+                 spec: dataclasses.Field | None = None) -> None:
         super().__init__(id=widget_id(dotted) + "-row", classes="setting")
         self.dotted = dotted
-        self.spec = key_spec(dotted)
+        self.spec = spec or key_spec(dotted)
         self._value = value
         self.tooltip = f"{dotted}: {self.spec.metadata['doc']}"
 
@@ -116,7 +121,7 @@ class SettingField(Horizontal):
 
     def compose(self) -> ComposeResult:
         m, wid, v = self.spec.metadata, widget_id(self.dotted), self._value
-        yield Label(label_text(self.dotted), classes="setting-label")
+        yield Label(label_text(self.dotted, self.spec), classes="setting-label")
         t = self.spec.type if isinstance(self.spec.type, str) else self.spec.type.__name__
         if t == "bool":
             yield Switch(value=v, id=wid)
@@ -125,6 +130,17 @@ class SettingField(Horizontal):
                          compact=True, id=wid)
         else:
             yield Input(format_value(v), id=wid, compact=True, select_on_focus=False)
+            if m["kind"] == "color":
+                yield Static(" ", classes="swatch", id=wid + "-swatch")
+
+    def on_mount(self) -> None:
+        self._paint_swatch()
+
+    def _paint_swatch(self) -> None:
+        """The colour itself beside its #rrggbb text (always a valid one: the last good)."""
+        for swatch in self.query(".swatch"):
+            swatch.styles.background = self._value
+            swatch.tooltip = f"{self._value}"
 
     def show(self, value: Any) -> None:
         """Display `value` (the last good one) without asking for a change."""
@@ -145,6 +161,11 @@ class SettingField(Horizontal):
             if c.value != text:
                 with c.prevent(Input.Changed):
                     c.value = text
+        self._paint_swatch()
+
+    def action_revert(self) -> None:
+        self.show(self._value)
+        self.screen.set_focus(None)
 
     def _edited(self, value: Any) -> None:
         if value != self._value:
@@ -169,8 +190,8 @@ class SettingField(Horizontal):
 
     def _commit(self, text: str, submitted: bool = False) -> None:
         if text.strip() != format_value(self._value) or submitted:
-            self.post_message(self.Edited(self, self.dotted, parse_text(self.dotted, text),
-                                          submitted))
+            value = parse_text(self.dotted, text, self.spec)
+            self.post_message(self.Edited(self, self.dotted, value, submitted))
 
 
 class Controls(VerticalScroll):

@@ -4,12 +4,23 @@ bump the particle under the pointer or crosshair, and drag one with the mouse. A
 
 from __future__ import annotations
 
+import time
+from collections import deque
 from typing import Any, Callable
 
 from ..scene import Scene
 from ..sim.runner import SimulationThread
 from .bindings import BUMP_M, ORBIT_DEG, VIEW_SPAN, ZOOM_STEP
 from .preview import Preview
+
+RECENT_VIEW_S = 3.0  # view keys this recent are told of when a digit shows typing was meant
+
+
+def typed_digit_notice(digit: str, recent: list[str]) -> str:
+    """What to tell a user who typed a digit with no field focused."""
+    done = f" The view keys typed with it acted: {', '.join(recent)}." if recent else ""
+    return (f"'{digit}' typed with no field focused: click a field or press Tab to type a "
+            f"value.{done} Press o to reset the view.")
 
 
 class ViewActions:
@@ -24,6 +35,14 @@ class ViewActions:
     _log_key: Callable[[str], None]
     _zoom: float
     _grabbed: int | None
+    _view_log: deque[tuple[float, str]]  # (monotonic time, what a view key did)
+
+    def _did(self, what: str) -> None:
+        self._view_log.append((time.monotonic(), what))
+
+    def recent_view_keys(self) -> list[str]:
+        now = time.monotonic()
+        return [what for t, what in self._view_log if now - t < RECENT_VIEW_S]
 
     def _place_crosshair(self) -> bool:
         """Put the crosshair on the particle nearest the middle of the sheet, by picking a
@@ -90,11 +109,14 @@ class ViewActions:
     def action_orbit(self, d_az: float, d_el: float) -> None:
         if self.renderer is not None:
             self.renderer.orbit(d_az * ORBIT_DEG, d_el * ORBIT_DEG)
+            self._did({(-1, 0): "orbit left", (1, 0): "orbit right", (0, -1): "orbit down",
+                       (0, 1): "orbit up"}.get((d_az, d_el), "orbit"))
             self._log_key("orbit")
 
     def action_zoom(self, direction: int) -> None:
         factor = ZOOM_STEP if direction > 0 else 1 / ZOOM_STEP
         self._zoom *= factor
+        self._did("zoom in" if direction > 0 else "zoom out")
         if self.renderer is not None:
             self.renderer.zoom(factor)
             self._log_key("zoom")
