@@ -33,7 +33,7 @@ from .commands import SceneCommands
 from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
-from .panels import Controls, SettingField
+from .panels import Controls, ObjectsPanel, SettingField
 from .preview import Preview
 from .status import Readout, StatusBar
 from .view_actions import ViewActions, typed_digit_notice
@@ -224,6 +224,18 @@ class ClothApp(ViewActions, CaptureActions, App):
         message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
         if message.submitted:
             self.screen.focus_next()  # Enter: on to the next field
+
+    def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
+        try:
+            new = self.scene.with_objects(message.objects)
+        except SceneError as e:
+            self.notify(str(e), title="Object refused", severity="error", timeout=8)
+            if message.field is not None:
+                message.field.show(message.field.last_good)
+            return
+        self.apply_scene(new)
+        if message.submitted:
+            self.screen.focus_next()
 
     def on_controls_command(self, message: Controls.Command) -> None:
         if message.command == "restart":

@@ -13,6 +13,7 @@ from textual.screen import ModalScreen, Screen
 from textual.widgets import Input, Static, Switch
 
 from .bindings import KEY_GROUPS, MOUSE_ACTIONS
+from .panels import SettingField
 
 # What the field keys do in this app (their bindings' own words are Textual's generic ones).
 FIELD_ACTIONS = {
@@ -26,8 +27,7 @@ KEY_WIDTH = 18
 
 def field_bindings() -> list[Binding]:
     """The keys of the controls: focus moves, Enter in a field, a switch's keys, and the
-    field's own (SettingField, imported late: panels → help would be a circle otherwise)."""
-    from .panels import SettingField
+    field's own (SettingField's)."""
     found = [b for cls in (Screen, Input, Switch) for b in cls.BINDINGS
              if isinstance(b, Binding) and b.action in FIELD_ACTIONS]
     return found + [b for b in SettingField.BINDINGS if isinstance(b, Binding)]
@@ -66,16 +66,19 @@ def help_table(app: App) -> Table:
 
 
 class HelpScreen(ModalScreen[None]):
-    """Keys and mouse actions; Escape, q, ? or F1 closes it."""
+    """Keys and mouse actions; Escape, ? or F1 closes it."""
 
     DEFAULT_CSS = """
     HelpScreen { align: center middle; }
     HelpScreen #help { width: 90; max-width: 100%; height: auto; max-height: 100%;
                        border: round $accent; background: $panel; padding: 0 1; }
     """
-    BINDINGS = [Binding("escape,q,question_mark,f1", "app.pop_screen", "Close help")]
+    BINDINGS = [Binding("escape", "close", "Close help")]  # ? and F1: the app's help key
 
     def compose(self) -> ComposeResult:
         with VerticalScroll(id="help") as box:
             box.border_title = "cloth-tui keys (Escape closes)"
             yield Static(help_table(self.app), id="help-text")
+
+    def action_close(self) -> None:
+        self.dismiss()

@@ -1,7 +1,9 @@
 """The control panels, built from the scene schema's field metadata: one row per scene key,
 a Switch for booleans, a Select for choices, an Input for numbers, vectors, colours and
 textures (validated when submitted or left). Rows never change the scene themselves: they
-post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value)."""
+post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value).
+The Scene group also lists the scene's [[objects]] (ObjectsPanel): the same rows, read from
+SceneObject's declarations, which post `ObjectsPanel.Changed` with the whole new list."""
 
 from __future__ import annotations
 
@@ -11,12 +13,12 @@ from typing import Any
 
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import Horizontal, VerticalScroll
+from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.message import Message
 from textual.widget import Widget
 from textual.widgets import Button, Collapsible, Input, Label, Select, Static, Switch
 
-from ..scene import SECTION_TYPES, Scene, key_spec
+from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec
 
 TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
@@ -116,6 +118,11 @@ class SettingField(Horizontal):
         self.tooltip = f"{dotted}: {self.spec.metadata['doc']}"
 
     @property
+    def last_good(self) -> Any:
+        """The value shown before the edit: the scene's, as last shown."""
+        return self._value
+
+    @property
     def control(self) -> Widget:
         return self.query_one("#" + widget_id(self.dotted))
 
@@ -194,6 +201,97 @@ class SettingField(Horizontal):
             self.post_message(self.Edited(self, self.dotted, value, submitted))
 
 
+OBJECT_KEYS = {f.name: f for f in dataclasses.fields(SceneObject)}
+
+
+def object_key(index: int, name: str) -> str:
+    return f"objects.{index}.{name}"
+
+
+def object_title(index: int, obj: SceneObject) -> str:
+    x, y, z = obj.center
+    return f"{index + 1}. {obj.type} at ({x:g}, {y:g}, {z:g})"
+
+
+class ObjectsPanel(Vertical):
+    """Edit, add and remove the scene's objects."""
+
+    DEFAULT_CSS = """
+    ObjectsPanel { height: auto; margin-top: 1; }
+    ObjectsPanel #add-object-row { height: 1; margin-top: 1; }
+    ObjectsPanel #add-object-type { width: 14; }
+    ObjectsPanel #add-object-path { width: 1fr; }
+    ObjectsPanel Button { min-width: 0; width: auto; padding: 0 1; }
+    ObjectsPanel Collapsible { margin-top: 0; }
+    """
+
+    class Changed(Message):
+        """The user asks for these objects (not yet validated). `field`: the row edited, to
+        show its last good value if refused; `submitted`: Enter in that row."""
+
+        def __init__(self, objects: list[dict[str, Any]], field: SettingField | None = None,
+                     submitted: bool = False) -> None:
+            super().__init__()
+            self.objects, self.field, self.submitted = objects, field, submitted
+
+    def __init__(self, objects: list[SceneObject], *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self._objects = [dataclasses.replace(o) for o in objects]
+
+    def compose(self) -> ComposeResult:
+        yield Label(f"[b]objects[/] ({len(self._objects)})", id="objects-label")
+        for i, obj in enumerate(self._objects):
+            with Collapsible(title=object_title(i, obj), collapsed=True, id=f"object-{i}"):
+                for name, spec in OBJECT_KEYS.items():
+                    yield SettingField(object_key(i, name), getattr(obj, name), spec=spec)
+                yield Button("Remove", id=f"remove-object-{i}", compact=True,
+                             variant="error", tooltip=f"remove object {i + 1}")
+        with Horizontal(id="add-object-row"):
+            yield Select([(t, t) for t in OBJECT_TYPES], value=OBJECT_TYPES[0],
+                         allow_blank=False, compact=True, id="add-object-type")
+            yield Input(placeholder="mesh file", id="add-object-path",
+                        compact=True)
+            yield Button("Add", id="add-object", compact=True, variant="primary",
+                         tooltip="add an object of this type")
+
+    def _tables(self) -> list[dict[str, Any]]:
+        return [dataclasses.asdict(o) for o in self._objects]
+
+    def on_setting_field_edited(self, event: SettingField.Edited) -> None:
+        event.stop()
+        _, index, name = event.dotted.split(".")
+        tables = self._tables()
+        tables[int(index)][name] = event.value
+        self.post_message(self.Changed(tables, event.field, event.submitted))
+
+    def on_button_pressed(self, event: Button.Pressed) -> None:
+        event.stop()
+        button = event.button.id or ""
+        tables = self._tables()
+        if button.startswith("remove-object-"):
+            del tables[int(button.rsplit("-", 1)[1])]
+        elif button == "add-object":
+            kind = self.query_one("#add-object-type", Select).value
+            path = self.query_one("#add-object-path", Input).value.strip()
+            tables.append({"type": kind, **({"path": path} if kind == "mesh" else {})})
+        else:
+            return
+        self.post_message(self.Changed(tables))
+
+    def show_objects(self, objects: list[SceneObject]) -> None:
+        """Show the scene's objects: new rows when their number changed, else new values."""
+        count = len(self._objects)
+        self._objects = [dataclasses.replace(o) for o in objects]
+        if len(objects) != count:
+            self.call_later(self.recompose)
+            return
+        for i, obj in enumerate(objects):
+            self.query_one(f"#object-{i}", Collapsible).title = object_title(i, obj)
+        for field in self.query(SettingField):
+            _, index, name = field.dotted.split(".")
+            field.show(getattr(objects[int(index)], name))
+
+
 class Controls(VerticalScroll):
     """Top-level settings and buttons, then the four collapsible groups."""
 
@@ -220,6 +318,8 @@ class Controls(VerticalScroll):
                              id="group-" + group.lower()):
                 for dotted in keys_in(group):
                     yield SettingField(dotted, self._scene.get(dotted))
+                if group == "Scene":
+                    yield ObjectsPanel(self._scene.objects, id="objects")
 
     def on_button_pressed(self, event: Button.Pressed) -> None:
         event.stop()
@@ -229,7 +329,9 @@ class Controls(VerticalScroll):
         """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
         self._scene = scene
         for field in self.query(SettingField):
-            field.show(scene.get(field.dotted))
+            if not field.dotted.startswith("objects."):
+                field.show(scene.get(field.dotted))
+        self.query_one(ObjectsPanel).show_objects(scene.objects)
 
 
 def all_panel_keys() -> list[str]:
@@ -237,4 +339,3 @@ def all_panel_keys() -> list[str]:
     for g in GROUPS:
         keys += keys_in(g)
     return keys
-

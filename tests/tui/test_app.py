@@ -137,7 +137,9 @@ def test_pause_restart_and_buttons(tmp_path):
             await until(pilot, lambda: sim_scene(app).behavior.iterations == 4)
             await until(pilot, lambda: app.sim.latest.frame > 5)
             # the clicked button has focus (space would press it): escape, then space pauses
-            await pilot.press("escape", "space")  # paused: the restarted sheet stays at frame 0
+            await pilot.press("escape")
+            await until(pilot, lambda: app.focused is None, what="focus left")
+            await pilot.press("space")  # paused: the restarted sheet stays at frame 0
             await pilot.click("#restart")
             await until(pilot, lambda: app.sim.latest.frame == 0, what="restart")
     run(go())
