@@ -70,10 +70,13 @@ def test_focus_is_clearly_visible(tmp_path):
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
             row = app.query_one("#" + widget_id("forces.wind") + "-row")
-            before = row.rich_style.bgcolor
+            label = row.query_one(".setting-label")
+            assert row.rich_style.bgcolor == row.parent.rich_style.bgcolor
             _control(app, "forces.wind").focus()
             await pilot.pause(0.1)
-            assert row.rich_style.bgcolor != before  # the whole row, label included
+            # the whole row stands out from its group, and its label is bold
+            assert row.rich_style.bgcolor != row.parent.rich_style.bgcolor
+            assert label.rich_style.bold
     run(go())
 
 
