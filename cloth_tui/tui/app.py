@@ -17,7 +17,6 @@ from collections import deque
 from pathlib import Path
 from typing import Any, Callable
 
-from textual import events
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Footer, Input
@@ -33,16 +32,15 @@ from .commands import SceneCommands
 from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
-from .panels import Controls, ObjectsPanel, SettingField
+from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
+from .panels import Controls
 from .preview import Preview
 from .status import Readout, StatusBar
-from .view_actions import ViewActions, typed_digit_notice
+from .view_actions import ViewActions
 
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
 # Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
 ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
-WIDE_FROM = 120  # columns; below, the controls are a drawer and the status line is compact
-NARROW_CLASS = "-narrow"
 
 
 def default_renderer_factory(**kwargs):
@@ -50,14 +48,14 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(ViewActions, CaptureActions, App):
+class ClothApp(ViewActions, CaptureActions, PanelActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
     COMMANDS = App.COMMANDS | {SceneCommands}
     BINDINGS = APP_BINDINGS
-    # Narrower than this, the controls are a drawer over the preview (`c`), which takes the
-    # width: at 80 columns a side panel would leave a 34-column picture.
+    # Narrower than WIDE_FROM, the controls are a drawer over the preview (`c`), which takes
+    # the width: at 80 columns a side panel would leave a 34-column picture.
     HORIZONTAL_BREAKPOINTS = [(0, NARROW_CLASS), (WIDE_FROM, "-wide")]
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
@@ -216,36 +214,6 @@ class ClothApp(ViewActions, CaptureActions, App):
         if self.renderer is not None:
             self.renderer.resize(message.width, message.height)
 
-    def on_setting_field_edited(self, message: SettingField.Edited) -> None:
-        dotted = message.dotted
-        if message.value != self.scene.get(dotted) and not self.set_value(dotted, message.value):
-            message.field.show(self.scene.get(dotted))
-            return  # refused: the field keeps focus for another try
-        message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
-        if message.submitted:
-            self.screen.focus_next()  # Enter: on to the next field
-
-    def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
-        try:
-            new = self.scene.with_objects(message.objects)
-        except SceneError as e:
-            self.notify(str(e), title="Object refused", severity="error", timeout=8)
-            if message.field is not None:
-                message.field.show(message.field.last_good)
-            return
-        self.apply_scene(new)
-        if message.submitted:
-            self.screen.focus_next()
-
-    def on_controls_command(self, message: Controls.Command) -> None:
-        if message.command == "restart":
-            self.action_restart()
-        elif message.command == "defaults":
-            self.apply_scene(Scene(name=self.scene.name), restart=True)
-            self.notify("Settings restored to their defaults")
-        elif message.command == "hide":
-            self.action_toggle_controls()
-
     # -- scene changes --------------------------------------------------------------------
     def set_value(self, dotted: str, value: Any) -> bool:
         """Apply one setting live; a refused value is reported and changes nothing."""
@@ -288,13 +256,6 @@ class ClothApp(ViewActions, CaptureActions, App):
             return False  # space toggles the focused switch, presses the focused button
         return True
 
-    def on_key(self, event: events.Key) -> None:
-        """A digit typed with no field focused was meant for a field: say so, and what the
-        view keys typed with it (`.` `,` `-` `+`) did, rather than orbit in silence."""
-        if event.character and event.character.isdigit() and self.focused is None:
-            self.notify(typed_digit_notice(event.character, self.recent_view_keys()),
-                        severity="warning", timeout=4)
-
     def _log_key(self, what: str) -> None:
         if self._debug is not None:
             self._debug.write(f"{time.perf_counter():.4f} key {what}\n")
@@ -316,17 +277,6 @@ class ClothApp(ViewActions, CaptureActions, App):
     def action_toggle(self, dotted: str) -> None:
         self.set_value(dotted, not self.scene.get(dotted))
         self._log_key(dotted)
-
-    def action_toggle_controls(self) -> None:
-        """Hide or show the side panel; on a narrow screen, open or close the drawer."""
-        narrow = self.screen.has_class(NARROW_CLASS)
-        self.query_one("#main").toggle_class("-drawer-open" if narrow else "-controls-hidden")
-
-    def action_help(self) -> None:
-        if isinstance(self.screen, HelpScreen):
-            self.pop_screen()
-        else:
-            self.push_screen(HelpScreen())
 
     def action_unfocus(self) -> None:
         self.set_focus(None)
