@@ -102,9 +102,9 @@ class Readout:
         `compact` (a narrow terminal): rates, stretch and energy fit in 78 columns."""
         s = self.stats
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
-        parts = ["[b white on red] ● REC [/]"] if recording else []
         if compact:
-            return self._compact_text(parts, paused, iterations, substeps)
+            return self._compact_text(recording, paused, iterations, substeps)
+        parts = ["[b white on red] ● REC [/]"] if recording else []
         parts += [
             "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶ running[/]",
             f"sim {self.sim_rate.rate():3.0f} fps",
@@ -129,9 +129,10 @@ class Readout:
         return " · ".join(parts), cost
 
 
-    def _compact_text(self, parts: list[str], paused: bool, iterations: int,
+    def _compact_text(self, recording: bool, paused: bool, iterations: int,
                       substeps: int) -> tuple[str, str]:
         s = self.stats
+        parts = ["[b white on red]● REC[/]"] if recording else []
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
         state = ("[b yellow]⏸ PAUSED[/]", "[b green]▶ running[/]")
         if parts:  # recording: the mark takes the state word's room
@@ -141,7 +142,7 @@ class Readout:
             f"sim {self.sim_rate.rate():.0f} fps",
             f"view {self.view_rate.rate():.0f} fps",
             f"stretch [b]{pct(s.get('max_stretch'))}[/]",
-            f"E {s.get('energy', 0.0):+.3f} J ΔE {self.drift:+.3f} J",
+            f"E {s.get('energy', 0.0):+.4g} J ΔE {self.drift:+.4g} J",  # 4 digits fit
         ]
         if s.get("halted"):
             parts.insert(0, "[b white on red] HALTED [/]")
