@@ -235,6 +235,10 @@ class Scene:
         validate(new)
         return new
 
+    def with_objects(self, objects: list[dict[str, Any]]) -> "Scene":
+        """A validated copy whose [[objects]] are `objects` (tables as in a scene file)."""
+        return from_dict({**to_dict(self), "objects": objects}, self.name)
+
 
 SECTION_TYPES = {"cloth": Cloth, "forces": Forces, "scene": SceneSection,
                  "behavior": Behavior, "appearance": Appearance}

@@ -89,3 +89,14 @@ def test_overrides_that_constrain_each_other_apply_in_any_order():
     assert a.behavior.wave_amplitude == 15.0
     with pytest.raises(SceneError, match="max_speed"):
         sc.apply_overrides(Scene(), ["behavior.wave=true", "behavior.wave_amplitude=15"])
+
+
+def test_with_objects_replaces_and_validates_the_objects():
+    base = Scene().with_value("forces.wind", True)
+    new = base.with_objects([{"type": "box", "size": [0.2, 0.2, 0.2]}, {"type": "sphere"}])
+    assert [o.type for o in new.objects] == ["box", "sphere"] and new.forces.wind
+    assert base.objects == []  # a copy
+    with pytest.raises(SceneError, match=r"objects\[0\]: a mesh needs `path`"):
+        base.with_objects([{"type": "mesh"}])
+    with pytest.raises(SceneError, match=r"objects\[1\]\.radius"):
+        base.with_objects([{"type": "sphere"}, {"type": "sphere", "radius": -1.0}])

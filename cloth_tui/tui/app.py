@@ -13,6 +13,7 @@ import os
 import signal
 import sys
 import time
+from collections import deque
 from pathlib import Path
 from typing import Any, Callable
 
@@ -22,22 +23,24 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
-from ..render.capture import timestamped
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
-from ..scene import save as save_scene
 from ..sim.runner import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
-from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
+from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
+from .capture_actions import CaptureActions
 from .commands import SceneCommands
 from .graphics.detect import Graphics
+from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
-from .panels import Controls, SettingField
+from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
+from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
 from .status import Readout, StatusBar
+from .view_actions import ViewActions
 
 RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
@@ -50,12 +53,15 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(App):
+class ClothApp(ViewActions, CaptureActions, PanelActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
     COMMANDS = App.COMMANDS | {SceneCommands}
     BINDINGS = APP_BINDINGS
+    # Narrower than WIDE_FROM, the controls are a drawer over the preview (`c`), which takes
+    # the width: at 80 columns a side panel would leave a 34-column picture.
+    HORIZONTAL_BREAKPOINTS = [(0, NARROW_CLASS), (WIDE_FROM, "-wide")]
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
@@ -86,6 +92,7 @@ class ClothApp(App):
         self._grabbed: int | None = None
         self._cut_at: int | None = None  # the particle the knife (right-drag) last passed
         self._zoom = 1.0
+        self._view_log: deque[tuple[float, str]] = deque(maxlen=8)  # for typed_digit_notice
         self._stopped = False
         self._crosshair_placed = False
         self._no_preview: str | None = None  # why there are no pictures, once known
@@ -209,26 +216,6 @@ class ClothApp(App):
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
 
-    def _place_crosshair(self) -> bool:
-        """Put the crosshair on the particle nearest the middle of the sheet, by picking a
-        coarse grid of image points (pick is cheap). False if no particle is visible yet."""
-        n = self.scene.cloth.resolution
-        best, best_d = None, None
-        for i in range(1, 24):
-            for j in range(1, 24):
-                uv = (i / 24, j / 24)
-                p = self.renderer.pick(*uv)
-                if p is None:
-                    continue
-                d = abs(p // n - (n - 1) / 2) + abs(p % n - (n - 1) / 2)
-                if best_d is None or d < best_d:
-                    best, best_d = uv, d
-        if best is None:
-            return False
-        self.preview.crosshair = best
-        self.preview.move_crosshair(0, 0)
-        return True
-
     def on_sim_died(self, message: SimDied) -> None:
         err = message.error
         text = f"{type(err).__name__}: {err}" if err else "unknown error"
@@ -244,75 +231,9 @@ class ClothApp(App):
         self.notify(f"No preview: {reason}", severity="error", timeout=30)
         self._refresh_status()
 
-    def on_captured(self, message: Captured) -> None:
-        ev = message.event
-        if ev.kind == "unavailable":
-            self._show_no_preview(ev.message)
-        elif ev.kind == "error":
-            self.notify(ev.message or "capture failed", title="Capture failed",
-                        severity="error", timeout=10)
-        elif ev.kind == "screenshot":
-            self.notify(f"Screenshot saved: {ev.path}")
-        elif ev.kind == "video_started":
-            self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
-        elif ev.kind == "video_saved":
-            self.notify(f"Video saved: {ev.path}")
-        elif ev.kind == "video_empty":
-            self.notify(f"Nothing recorded: {ev.message}", severity="warning")
-        elif ev.kind == "notice":
-            self.notify(ev.message, severity="warning", timeout=10)
-        self._refresh_status()
-
     def on_preview_resized(self, message: Preview.Resized) -> None:
         if self.renderer is not None:
             self.renderer.resize(message.width, message.height)
-
-    def on_preview_grab(self, message: Preview.Grab) -> None:
-        self._grabbed = self.renderer.pick(message.u, message.v) if self.renderer else None
-
-    def on_preview_drag(self, message: Preview.Drag) -> None:
-        """Move the grabbed particle with the pointer: in the camera's view plane at its
-        depth, so the drag follows any orbit (the renderer's last camera, NumPy only). Before
-        a first frame, a fixed front-view scale."""
-        if self._grabbed is None:
-            return
-        d = None
-        if self.renderer is not None:
-            d = self.renderer.screen_delta_to_world(self._grabbed, message.du, message.dv)
-        if d is None:
-            span = VIEW_SPAN * self.scene.cloth.size / self._zoom
-            aspect = message.width_px / max(message.height_px, 1)
-            d = (message.du * span * aspect, -message.dv * span, 0.0)
-        self._bump(self._grabbed, d)
-
-    def on_preview_release(self, _: Preview.Release) -> None:
-        self._grabbed = None
-
-    def on_preview_cut(self, message: Preview.Cut) -> None:
-        """Cut the cloth from the particle the knife last passed to the one under it now
-        (the renderer's last frame, NumPy only); off the sheet, the path starts anew."""
-        here = self.renderer.pick(message.u, message.v) if self.renderer else None
-        last, self._cut_at = (None if message.start else self._cut_at), here
-        if self.sim is not None and last is not None and here is not None and here != last:
-            self.sim.submit(lambda sim: sim.cut(last, here))
-
-    def on_setting_field_edited(self, message: SettingField.Edited) -> None:
-        dotted = message.dotted
-        if message.value != self.scene.get(dotted) and not self.set_value(dotted, message.value):
-            message.field.show(self.scene.get(dotted))
-            return  # refused: the field keeps focus for another try
-        message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
-        if message.submitted:
-            self.set_focus(None)  # Enter: the keys go back to the app
-
-    def on_controls_command(self, message: Controls.Command) -> None:
-        if message.command == "restart":
-            self.action_restart()
-        elif message.command == "defaults":
-            self.apply_scene(Scene(name=self.scene.name), restart=True)
-            self.notify("Settings restored to their defaults")
-        elif message.command == "hide":
-            self.action_toggle_controls()
 
     # -- scene changes --------------------------------------------------------------------
     def set_value(self, dotted: str, value: Any) -> bool:
@@ -348,8 +269,12 @@ class ClothApp(App):
 
     # -- actions --------------------------------------------------------------------------
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if isinstance(self.screen, HelpScreen):
+            return action in ("help", "quit")  # nothing acts unseen behind the help
         if action in TEXT_KEYS_ACTIONS and isinstance(self.focused, (Input, SelectOverlay)):
             return False  # let the field have the key
+        if action in CONTROL_KEYS_ACTIONS and self.focused is not None:
+            return False  # space toggles the focused switch, presses the focused button
         return True
 
     def _log_key(self, what: str) -> None:
@@ -381,73 +306,6 @@ class ClothApp(App):
         self.set_value(dotted, not self.scene.get(dotted))
         self._log_key(dotted)
 
-    def _bump(self, particle: int, d: tuple[float, float, float]) -> None:
-        if self.sim is not None:
-            self.sim.submit(lambda sim: sim.bump(particle, d))
-
-    def action_bump(self, dx: float, dy: float, dz: float) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot tell which particle is under the pointer",
-                        severity="warning")
-            return
-        u, v = self.preview.target
-        particle = self.renderer.pick(u, v)
-        if particle is None:
-            where = "pointer" if self.preview.pointer is not None else "crosshair (move: h j k l)"
-            self.notify(f"No particle under the {where}", severity="warning", timeout=1.5)
-            return
-        self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
-        self._log_key("bump")
-
-    def action_crosshair(self, dcol: int, drow: int) -> None:
-        self.preview.move_crosshair(dcol, drow)
-
-    def action_orbit(self, d_az: float, d_el: float) -> None:
-        if self.renderer is not None:
-            self.renderer.orbit(d_az * ORBIT_DEG, d_el * ORBIT_DEG)
-            self._log_key("orbit")
-
-    def action_zoom(self, direction: int) -> None:
-        factor = ZOOM_STEP if direction > 0 else 1 / ZOOM_STEP
-        self._zoom *= factor
-        if self.renderer is not None:
-            self.renderer.zoom(factor)
-            self._log_key("zoom")
-
-    def action_reset_camera(self) -> None:
-        self._zoom = 1.0
-        if self.renderer is not None:
-            self.renderer.reset_camera()
-
-    def action_screenshot(self) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot take a screenshot", severity="error")
-        else:
-            self.renderer.screenshot()
-
-    def action_video(self) -> None:
-        if self.renderer is None:
-            self.notify("no renderer: cannot record", severity="error")
-        else:
-            self.renderer.toggle_recording()
-
-    def action_bake(self) -> None:
-        self.bake.toggle(self.sim.latest if self.sim is not None else None)
-        self._refresh_status()
-
-    def action_save_scene(self) -> None:
-        path = timestamped(self.captures_dir, "scene", ".toml")  # -2, -3… within a second
-        try:
-            save_scene(self.scene, path)
-        except SceneError as e:
-            self.notify(str(e), title="Save failed", severity="error")
-            return
-        self.notify(f"Scene saved: {path}")
-
-    def action_toggle_controls(self) -> None:
-        controls = self.controls
-        controls.display = not controls.display
-
     def action_unfocus(self) -> None:
         self.set_focus(None)
 
@@ -470,7 +328,8 @@ class ClothApp(App):
         recording = bool(self.renderer is not None and self.renderer.recording)
         paused = bool(self.sim is not None and self.sim.paused)
         text = self.readout.text(paused=paused, recording=recording,
-                                 iterations=b.iterations, substeps=b.substeps)
+                                 iterations=b.iterations, substeps=b.substeps,
+                                 compact=self.size.width < WIDE_FROM)
         if self._no_preview is not None:
             text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
         text = self.bake.status(text)

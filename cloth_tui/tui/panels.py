@@ -1,7 +1,9 @@
 """The control panels, built from the scene schema's field metadata: one row per scene key,
 a Switch for booleans, a Select for choices, an Input for numbers, vectors, colours and
 textures (validated when submitted or left). Rows never change the scene themselves: they
-post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value)."""
+post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value).
+The Scene group also lists the scene's [[objects]] (ObjectsPanel): the same rows, read from
+SceneObject's declarations, which post `ObjectsPanel.Changed` with the whole new list."""
 
 from __future__ import annotations
 
@@ -10,25 +12,24 @@ import re
 from typing import Any
 
 from textual.app import ComposeResult
-from textual.containers import Horizontal, VerticalScroll
+from textual.binding import Binding
+from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.message import Message
 from textual.widget import Widget
-from textual.widgets import Button, Collapsible, Input, Label, Select, Switch
+from textual.widgets import Button, Collapsible, Input, Label, Select, Static, Switch
 
-from ..scene import SECTION_TYPES, Scene, key_spec
+from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec
 
 TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
 SECTION_GROUP = {"cloth": "Scene", "forces": "Forces", "scene": "Scene",
                  "behavior": "Behavior", "appearance": "Appearance"}
-# Where the original placed a control in another folder than its scene section.
-MOVED = {"appearance.show_constraints": "Behavior"}
 
 
 def group_of(dotted: str) -> str:
     if dotted in TOP_KEYS:
         return "top"
-    return MOVED.get(dotted) or SECTION_GROUP[dotted.split(".")[0]]
+    return SECTION_GROUP[dotted.split(".")[0]]
 
 
 def keys_in(group: str) -> list[str]:
@@ -57,10 +58,11 @@ def format_value(value: Any) -> str:
     return str(value)
 
 
-def parse_text(dotted: str, text: str) -> Any:
+def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) -> Any:
     """Text of an Input → the Python value to validate. What cannot be parsed is returned as
-    the raw string, so the scene's validation produces the one-line message."""
-    f = key_spec(dotted)
+    the raw string, so the scene's validation produces the one-line message. `spec`: the
+    field's declaration, for keys outside the scene's sections (an object's)."""
+    f = spec or key_spec(dotted)
     kind = f.metadata["kind"]
     t = f.type if isinstance(f.type, str) else f.type.__name__
     text = text.strip()
@@ -84,15 +86,19 @@ def parse_text(dotted: str, text: str) -> Any:
     return text
 
 
-def label_text(dotted: str) -> str:
-    f = key_spec(dotted)
-    name = dotted.split(".")[1].replace("_", " ")
+def label_text(dotted: str, spec: dataclasses.Field | None = None) -> str:
+    f = spec or key_spec(dotted)
+    name = dotted.split(".")[-1].replace("_", " ")
     unit = f.metadata["unit"]
     return f"{name} [dim]({unit})[/]" if unit else name
 
 
 class SettingField(Horizontal):
-    """One scene key: a label (with unit) and the control for its type."""
+    """One scene key: a label (with unit) and the control for its type. Escape restores the
+    last good value and leaves the field; Enter (the app decides) applies and moves on."""
+
+    BINDINGS = [Binding("escape", "revert", "restore the last good value and leave the field",
+                        show=False)]
 
     class Edited(Message):
         """The user asks for `dotted` = `value` (not yet validated)."""
@@ -103,12 +109,18 @@ class SettingField(Horizontal):
             self.field, self.dotted, self.value = field, dotted, value
             self.submitted = submitted  # Enter in an Input (rather than leaving it)
 
-    def __init__(self, dotted: str, value: Any) -> None:
+    def __init__(self, dotted: str, value: Any,
+                 spec: dataclasses.Field | None = None) -> None:
         super().__init__(id=widget_id(dotted) + "-row", classes="setting")
         self.dotted = dotted
-        self.spec = key_spec(dotted)
+        self.spec = spec or key_spec(dotted)
         self._value = value
         self.tooltip = f"{dotted}: {self.spec.metadata['doc']}"
+
+    @property
+    def last_good(self) -> Any:
+        """The value shown before the edit: the scene's, as last shown."""
+        return self._value
 
     @property
     def control(self) -> Widget:
@@ -116,7 +128,7 @@ class SettingField(Horizontal):
 
     def compose(self) -> ComposeResult:
         m, wid, v = self.spec.metadata, widget_id(self.dotted), self._value
-        yield Label(label_text(self.dotted), classes="setting-label")
+        yield Label(label_text(self.dotted, self.spec), classes="setting-label")
         t = self.spec.type if isinstance(self.spec.type, str) else self.spec.type.__name__
         if t == "bool":
             yield Switch(value=v, id=wid)
@@ -125,6 +137,17 @@ class SettingField(Horizontal):
                          compact=True, id=wid)
         else:
             yield Input(format_value(v), id=wid, compact=True, select_on_focus=False)
+            if m["kind"] == "color":
+                yield Static(" ", classes="swatch", id=wid + "-swatch")
+
+    def on_mount(self) -> None:
+        self._paint_swatch()
+
+    def _paint_swatch(self) -> None:
+        """The colour itself beside its #rrggbb text (always a valid one: the last good)."""
+        for swatch in self.query(".swatch"):
+            swatch.styles.background = self._value
+            swatch.tooltip = f"{self._value}"
 
     def show(self, value: Any) -> None:
         """Display `value` (the last good one) without asking for a change."""
@@ -145,6 +168,11 @@ class SettingField(Horizontal):
             if c.value != text:
                 with c.prevent(Input.Changed):
                     c.value = text
+        self._paint_swatch()
+
+    def action_revert(self) -> None:
+        self.show(self._value)
+        self.screen.set_focus(None)
 
     def _edited(self, value: Any) -> None:
         if value != self._value:
@@ -169,8 +197,99 @@ class SettingField(Horizontal):
 
     def _commit(self, text: str, submitted: bool = False) -> None:
         if text.strip() != format_value(self._value) or submitted:
-            self.post_message(self.Edited(self, self.dotted, parse_text(self.dotted, text),
-                                          submitted))
+            value = parse_text(self.dotted, text, self.spec)
+            self.post_message(self.Edited(self, self.dotted, value, submitted))
+
+
+OBJECT_KEYS = {f.name: f for f in dataclasses.fields(SceneObject)}
+
+
+def object_key(index: int, name: str) -> str:
+    return f"objects.{index}.{name}"
+
+
+def object_title(index: int, obj: SceneObject) -> str:
+    x, y, z = obj.center
+    return f"{index + 1}. {obj.type} at ({x:g}, {y:g}, {z:g})"
+
+
+class ObjectsPanel(Vertical):
+    """Edit, add and remove the scene's objects."""
+
+    DEFAULT_CSS = """
+    ObjectsPanel { height: auto; margin-top: 1; }
+    ObjectsPanel #add-object-row { height: 1; margin-top: 1; }
+    ObjectsPanel #add-object-type { width: 14; }
+    ObjectsPanel #add-object-path { width: 1fr; }
+    ObjectsPanel Button { min-width: 0; width: auto; padding: 0 1; }
+    ObjectsPanel Collapsible { margin-top: 0; }
+    """
+
+    class Changed(Message):
+        """The user asks for these objects (not yet validated). `field`: the row edited, to
+        show its last good value if refused; `submitted`: Enter in that row."""
+
+        def __init__(self, objects: list[dict[str, Any]], field: SettingField | None = None,
+                     submitted: bool = False) -> None:
+            super().__init__()
+            self.objects, self.field, self.submitted = objects, field, submitted
+
+    def __init__(self, objects: list[SceneObject], *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self._objects = [dataclasses.replace(o) for o in objects]
+
+    def compose(self) -> ComposeResult:
+        yield Label(f"[b]objects[/] ({len(self._objects)})", id="objects-label")
+        for i, obj in enumerate(self._objects):
+            with Collapsible(title=object_title(i, obj), collapsed=True, id=f"object-{i}"):
+                for name, spec in OBJECT_KEYS.items():
+                    yield SettingField(object_key(i, name), getattr(obj, name), spec=spec)
+                yield Button("Remove", id=f"remove-object-{i}", compact=True,
+                             variant="error", tooltip=f"remove object {i + 1}")
+        with Horizontal(id="add-object-row"):
+            yield Select([(t, t) for t in OBJECT_TYPES], value=OBJECT_TYPES[0],
+                         allow_blank=False, compact=True, id="add-object-type")
+            yield Input(placeholder="mesh file", id="add-object-path",
+                        compact=True)
+            yield Button("Add", id="add-object", compact=True, variant="primary",
+                         tooltip="add an object of this type")
+
+    def _tables(self) -> list[dict[str, Any]]:
+        return [dataclasses.asdict(o) for o in self._objects]
+
+    def on_setting_field_edited(self, event: SettingField.Edited) -> None:
+        event.stop()
+        _, index, name = event.dotted.split(".")
+        tables = self._tables()
+        tables[int(index)][name] = event.value
+        self.post_message(self.Changed(tables, event.field, event.submitted))
+
+    def on_button_pressed(self, event: Button.Pressed) -> None:
+        event.stop()
+        button = event.button.id or ""
+        tables = self._tables()
+        if button.startswith("remove-object-"):
+            del tables[int(button.rsplit("-", 1)[1])]
+        elif button == "add-object":
+            kind = self.query_one("#add-object-type", Select).value
+            path = self.query_one("#add-object-path", Input).value.strip()
+            tables.append({"type": kind, **({"path": path} if kind == "mesh" else {})})
+        else:
+            return
+        self.post_message(self.Changed(tables))
+
+    def show_objects(self, objects: list[SceneObject]) -> None:
+        """Show the scene's objects: new rows when their number changed, else new values."""
+        count = len(self._objects)
+        self._objects = [dataclasses.replace(o) for o in objects]
+        if len(objects) != count:
+            self.call_later(self.recompose)
+            return
+        for i, obj in enumerate(objects):
+            self.query_one(f"#object-{i}", Collapsible).title = object_title(i, obj)
+        for field in self.query(SettingField):
+            _, index, name = field.dotted.split(".")
+            field.show(getattr(objects[int(index)], name))
 
 
 class Controls(VerticalScroll):
@@ -199,6 +318,8 @@ class Controls(VerticalScroll):
                              id="group-" + group.lower()):
                 for dotted in keys_in(group):
                     yield SettingField(dotted, self._scene.get(dotted))
+                if group == "Scene":
+                    yield ObjectsPanel(self._scene.objects, id="objects")
 
     def on_button_pressed(self, event: Button.Pressed) -> None:
         event.stop()
@@ -208,7 +329,9 @@ class Controls(VerticalScroll):
         """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
         self._scene = scene
         for field in self.query(SettingField):
-            field.show(scene.get(field.dotted))
+            if not field.dotted.startswith("objects."):
+                field.show(scene.get(field.dotted))
+        self.query_one(ObjectsPanel).show_objects(scene.objects)
 
 
 def all_panel_keys() -> list[str]:
@@ -216,4 +339,3 @@ def all_panel_keys() -> list[str]:
     for g in GROUPS:
         keys += keys_in(g)
     return keys
-

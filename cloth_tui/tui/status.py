@@ -98,10 +98,13 @@ class Readout:
         return f"[b black on yellow] {text}: NOT MET [/]"
 
     def text(self, *, paused: bool, recording: bool, iterations: int,
-             substeps: int) -> tuple[str, str]:
-        """(state line, cost line): what the sim and view do, and what a frame costs."""
+             substeps: int, compact: bool = False) -> tuple[str, str]:
+        """(state line, cost line): what the sim and view do, and what a frame costs.
+        `compact` (a narrow terminal): rates, stretch and energy fit in 78 columns."""
         s = self.stats
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
+        if compact:
+            return self._compact_text(recording, paused, iterations, substeps)
         parts = ["[b white on red] ● REC [/]"] if recording else []
         parts += [
             "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶ running[/]",
@@ -127,6 +130,29 @@ class Readout:
         cost = (f"{frame}, {self.step_ms:5.3f} ms/step at "
                 f"{iterations} iterations × {shown} substeps · render {self.render_ms:5.1f} ms"
                 f" · ms/frame:")
+        return " · ".join(parts), cost
+
+
+    def _compact_text(self, recording: bool, paused: bool, iterations: int,
+                      substeps: int) -> tuple[str, str]:
+        s = self.stats
+        parts = ["[b white on red]● REC[/]"] if recording else []
+        pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
+        state = ("[b yellow]⏸ PAUSED[/]", "[b green]▶ running[/]")
+        if parts:  # recording: the mark takes the state word's room
+            state = ("[b yellow]⏸[/]", "[b green]▶[/]")
+        parts += [
+            state[0] if paused else state[1],
+            f"sim {self.sim_rate.rate():.0f} fps",
+            f"view {self.view_rate.rate():.0f} fps",
+            f"stretch [b]{pct(s.get('max_stretch'))}[/]",
+            f"E {s.get('energy', 0.0):+.4g} J ΔE {self.drift:+.4g} J",  # 4 digits fit
+        ]
+        if s.get("halted"):
+            parts.insert(0, "[b white on red] HALTED [/]")
+        used = s.get("substeps_used", substeps)
+        cost = (f"{self.frame_ms:.1f} ms/frame · {self.step_ms:.3f} ms/step · "
+                f"{iterations}×{used} · render {self.render_ms:.1f} ms")
         return " · ".join(parts), cost
 
 

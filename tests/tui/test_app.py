@@ -7,7 +7,8 @@ import pytest
 from textual.widgets import Collapsible, Input, Select, Switch
 
 from cloth_tui.scene import Scene, all_keys, load
-from cloth_tui.tui.app import BUMP_M, run_app
+from cloth_tui.tui.app import run_app
+from cloth_tui.tui.bindings import BUMP_M
 from cloth_tui.tui.panels import all_panel_keys, widget_id
 from cloth_tui.tui.preview import SCALE
 
@@ -55,7 +56,8 @@ def test_panel_controls_change_the_scene(tmp_path):
 
             # numbers, vectors, colours apply; resolution rebuilds the sheet
             field = await _type_into(pilot, app, "cloth.resolution", "10")
-            assert app.focused is None  # accepted with Enter: keys go back to the app
+            # accepted with Enter: on to the next field
+            assert app.focused is app.query_one("#" + widget_id("appearance.wireframe"))
             await until(pilot, lambda: app.sim.sim.model.n == 10, what="rebuilt model")
             await _type_into(pilot, app, "forces.wind_direction", "[1, 0, 0]")
             assert app.scene.forces.wind_direction == [1.0, 0.0, 0.0]
@@ -94,7 +96,7 @@ def test_view_keys_save_and_hide(tmp_path):
             await pilot.press("a")
             assert app.scene.appearance.auto_rotate is True
 
-            await pilot.press("left_square_bracket", "full_stop", "plus", "minus", "0")
+            await pilot.press("left_square_bracket", "full_stop", "plus", "minus", "o")
             kinds = [c[0] for c in app.renderer.calls]
             assert kinds.count("orbit") == 2 and kinds.count("zoom") == 2
             assert "reset_camera" in kinds and "resize" in kinds
@@ -134,6 +136,9 @@ def test_pause_restart_and_buttons(tmp_path):
             assert app.scene == Scene()
             await until(pilot, lambda: sim_scene(app).behavior.iterations == 4)
             await until(pilot, lambda: app.sim.latest.frame > 5)
+            # the clicked button has focus (space would press it): escape, then space pauses
+            await pilot.press("escape")
+            await until(pilot, lambda: app.focused is None, what="focus left")
             await pilot.press("space")  # paused: the restarted sheet stays at frame 0
             await pilot.click("#restart")
             await until(pilot, lambda: app.sim.latest.frame == 0, what="restart")

@@ -39,6 +39,14 @@ def check(name: str, svg: str) -> str | None:
     return None
 
 
+def shots(app, pilot, problems):
+    async def shot(name):
+        app._refresh_status()
+        await pilot.pause(0.1)
+        problems.append(check(name, app.export_screenshot(title="cloth-tui")))
+    return shot
+
+
 def test_screens_match_baselines(tmp_path, monkeypatch):
     monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 0.0)
     problems = []
@@ -48,11 +56,7 @@ def test_screens_match_baselines(tmp_path, monkeypatch):
         async with app.run_test(size=SIZE) as pilot:
             await until(pilot, lambda: app.preview.frames_shown > 1 and app._crosshair_placed)
             await pilot.pause(0.5)  # status refresh (5 Hz) and layout settle
-
-            async def shot(name):
-                app._refresh_status()
-                await pilot.pause(0.1)
-                problems.append(check(name, app.export_screenshot(title="cloth-tui")))
+            shot = shots(app, pilot, problems)
 
             await shot("main")
             groups = {c.id: c for c in app.query(Collapsible)}
@@ -63,6 +67,29 @@ def test_screens_match_baselines(tmp_path, monkeypatch):
                 await shot(f"panel-{name}")
             await pilot.press("c")
             await shot("controls-hidden")
+
+    run(go())
+    problems = [p for p in problems if p]
+    if problems:
+        pytest.fail("\n".join(problems))
+
+
+def test_80x24_screens_match_baselines(tmp_path, monkeypatch):
+    """A narrow terminal: the preview takes the width, the drawer opens over it, the help."""
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 0.0)
+    problems = []
+
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=(80, 24)) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 1 and app._crosshair_placed)
+            await pilot.pause(0.5)
+            shot = shots(app, pilot, problems)
+            await shot("narrow-main")
+            await pilot.press("c")
+            await shot("narrow-drawer")
+            await pilot.press("c", "question_mark")
+            await shot("narrow-help")
 
     run(go())
     problems = [p for p in problems if p]

@@ -19,7 +19,7 @@ from .conftest import SIZE, make_app, run, until
 
 KEYS = ["space", "r", "w", "a", "i", "v", "s", "c", "up", "down", "left", "right", "pageup",
         "pagedown", "h", "j", "k", "l", "left_square_bracket", "right_square_bracket",
-        "comma", "full_stop", "plus", "minus", "0", "escape", "tab"]
+        "comma", "full_stop", "plus", "minus", "o", "0", "question_mark", "escape", "tab"]
 
 # Keys whose change makes each frame much dearer; kept small so the soak stays a soak of the
 # app, not a benchmark of a 512² sheet.

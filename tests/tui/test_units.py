@@ -63,6 +63,24 @@ def test_readout_shows_what_the_tolerance_costs_and_warns_when_not_met():
     assert "constraint error 3.00 mm" in state
 
 
+def test_compact_readout_fits_80_columns_with_fps_stretch_and_energy(monkeypatch):
+    from rich.text import Text
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 999.0)  # 3 digits
+    r = Readout()
+    for frame, e in ((0, 123.456), (1, -99.999)):
+        r.on_snapshot(frame, {"energy": e, "max_stretch": 0.1234, "frame_ms": 123.4,
+                              "step_ms": 12.345, "substeps_used": 128})
+    r.render_ms = 999.9
+    for recording, paused in ((False, False), (False, True), (True, True)):
+        state, cost = r.text(paused=paused, recording=recording, iterations=64, substeps=128,
+                             compact=True)
+        plain = Text.from_markup(state).plain
+        assert "sim 999 fps" in plain and "view 999 fps" in plain and "stretch 12.34%" in plain
+        assert "E -100 J ΔE -223.5 J" in plain
+        assert len(plain) <= 78 and len(Text.from_markup(cost).plain) <= 60  # + sparkline
+        assert ("REC" in plain) == recording
+
+
 def test_input_text_parsing():
     assert parse_text("forces.wind_direction", "[1, 0, -2]") == [1.0, 0.0, -2.0]
     assert parse_text("forces.wind_direction", "1 0 x") == "1 0 x"  # refused later

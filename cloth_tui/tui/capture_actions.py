@@ -1,0 +1,72 @@
+"""The app's capture actions and their reports: screenshot, video, USD bake and saving the
+scene. A mixin of `ClothApp`, which owns the renderer, the bake key and the captures folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable
+
+from ..render.capture import timestamped
+from ..scene import Scene, SceneError
+from ..scene import save as save_scene
+from ..sim.runner import SimulationThread
+from .bake_key import BakeKey
+from .messages import Captured
+
+
+class CaptureActions:
+    """Needs from the app: `scene`, `sim`, `renderer` (or None), `bake`, `captures_dir`,
+    `notify`, `_show_no_preview` and `_refresh_status`."""
+
+    scene: Scene
+    sim: SimulationThread | None
+    renderer: Any
+    bake: BakeKey
+    captures_dir: Path
+    notify: Callable[..., None]
+    _show_no_preview: Callable[[str], None]
+    _refresh_status: Callable[[], None]
+
+    def on_captured(self, message: Captured) -> None:
+        ev = message.event
+        if ev.kind == "unavailable":
+            self._show_no_preview(ev.message)
+        elif ev.kind == "error":
+            self.notify(ev.message or "capture failed", title="Capture failed",
+                        severity="error", timeout=10)
+        elif ev.kind == "screenshot":
+            self.notify(f"Screenshot saved: {ev.path}")
+        elif ev.kind == "video_started":
+            self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
+        elif ev.kind == "video_saved":
+            self.notify(f"Video saved: {ev.path}")
+        elif ev.kind == "video_empty":
+            self.notify(f"Nothing recorded: {ev.message}", severity="warning")
+        elif ev.kind == "notice":
+            self.notify(ev.message, severity="warning", timeout=10)
+        self._refresh_status()
+
+    def action_screenshot(self) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot take a screenshot", severity="error")
+        else:
+            self.renderer.screenshot()
+
+    def action_video(self) -> None:
+        if self.renderer is None:
+            self.notify("no renderer: cannot record", severity="error")
+        else:
+            self.renderer.toggle_recording()
+
+    def action_bake(self) -> None:
+        self.bake.toggle(self.sim.latest if self.sim is not None else None)
+        self._refresh_status()
+
+    def action_save_scene(self) -> None:
+        path = timestamped(self.captures_dir, "scene", ".toml")  # -2, -3… within a second
+        try:
+            save_scene(self.scene, path)
+        except SceneError as e:
+            self.notify(str(e), title="Save failed", severity="error")
+            return
+        self.notify(f"Scene saved: {path}")

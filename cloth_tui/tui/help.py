@@ -1,0 +1,84 @@
+"""The help screen (`?`, F1): every key and mouse action by group. The keys are read from the
+bindings themselves (the app's groups, the fields' and Textual's focus keys), so the list
+cannot drift from what the keys do."""
+
+from __future__ import annotations
+
+from rich.table import Table
+from rich.text import Text
+from textual.app import App, ComposeResult
+from textual.binding import Binding
+from textual.containers import VerticalScroll
+from textual.screen import ModalScreen, Screen
+from textual.widgets import Input, Static, Switch
+
+from .bindings import KEY_GROUPS, MOUSE_ACTIONS
+from .panels import SettingField
+
+# What the field keys do in this app (their bindings' own words are Textual's generic ones).
+FIELD_ACTIONS = {
+    "app.focus_next": "next control",
+    "app.focus_previous": "previous control",
+    "submit": "apply the value and move to the next field",
+    "toggle_switch": "toggle a focused switch",
+}
+KEY_WIDTH = 18
+
+
+def field_bindings() -> list[Binding]:
+    """The keys of the controls: focus moves, Enter in a field, a switch's keys, and the
+    field's own (SettingField's)."""
+    found = [b for cls in (Screen, Input, Switch) for b in cls.BINDINGS
+             if isinstance(b, Binding) and b.action in FIELD_ACTIONS]
+    return found + [b for b in SettingField.BINDINGS if isinstance(b, Binding)]
+
+
+def key_text(app: App, binding: Binding) -> str:
+    """Every key of a binding ("+ / =", "h / shift+←"), as the footer would show each."""
+    keys = [k.strip() for k in binding.key.split(",")]
+    return " / ".join(app.get_key_display(Binding(k, binding.action)) for k in keys)
+
+
+def help_groups(app: App) -> dict[str, list[tuple[str, str]]]:
+    """Group title → (keys, what they do) rows."""
+    groups = {name: [(key_text(app, b), b.tooltip or b.description) for b in bindings]
+              for name, bindings in KEY_GROUPS.items()}
+    groups["Fields"] = [(key_text(app, b), FIELD_ACTIONS.get(b.action, b.tooltip or
+                                                             b.description))
+                        for b in field_bindings()]
+    palette = Binding(app.COMMAND_PALETTE_BINDING, "command_palette")
+    groups["Fields"].append((key_text(app, palette), "command palette: open a built-in scene"))
+    groups["Mouse"] = list(MOUSE_ACTIONS)
+    return groups
+
+
+def help_table(app: App) -> Table:
+    """Plain text cells (no markup: `[` is a key here), wrapped within their column."""
+    table = Table(box=None, show_header=False, padding=(0, 1), expand=True)
+    table.add_column(width=KEY_WIDTH, style="bold", no_wrap=True)
+    table.add_column(ratio=1)
+    for name, rows in help_groups(app).items():
+        table.add_row(Text(name, style="bold underline"), "")
+        for keys, what in rows:
+            table.add_row(Text(keys), Text(what))
+        table.add_row("", "")
+    return table
+
+
+class HelpScreen(ModalScreen[None]):
+    """Keys and mouse actions; Escape, ? or F1 closes it."""
+
+    DEFAULT_CSS = """
+    HelpScreen { align: center middle; }
+    HelpScreen #help { width: 90; max-width: 100%; height: auto; max-height: 100%;
+                       border: round $accent; background: $panel; padding: 0 1; }
+    """
+    BINDINGS = [Binding("escape", "close", "Close help")]  # ? and F1: the app's help key
+
+    def compose(self) -> ComposeResult:
+        with VerticalScroll(id="help") as box:
+            box.border_title = "cloth-tui keys (Escape closes)"
+            yield Static(help_table(self.app), id="help-text")
+
+    def action_close(self) -> None:
+        self.dismiss()

@@ -1,0 +1,85 @@
+"""What the control panels, the help and the layout ask of the app: a field edited, the
+objects changed, a panel button, the controls drawer, the help screen, and a digit typed with
+no field focused. A mixin of `ClothApp`, which owns the scene and applies it."""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+from textual import events
+from textual.screen import Screen
+from textual.widget import Widget
+
+from ..scene import Scene, SceneError
+from .help import HelpScreen
+from .panels import Controls, ObjectsPanel, SettingField
+from .view_actions import typed_digit_notice
+
+WIDE_FROM = 120  # columns; below, the controls are a drawer and the status line is compact
+NARROW_CLASS = "-narrow"
+
+
+class PanelActions:
+    """Needs from the app: `scene`, `set_value`, `apply_scene`, `action_restart`, `notify`,
+    `recent_view_keys`, and Textual's `screen`, `focused`, `query_one`, `push_screen` and
+    `pop_screen`."""
+
+    scene: Scene
+    set_value: Callable[[str, Any], bool]
+    apply_scene: Callable[..., None]
+    action_restart: Callable[[], None]
+    notify: Callable[..., None]
+    recent_view_keys: Callable[[], list[str]]
+    screen: Screen
+    focused: Widget | None
+    query_one: Callable[..., Widget]
+    push_screen: Callable[..., Any]
+    pop_screen: Callable[[], Any]
+
+    def on_setting_field_edited(self, message: SettingField.Edited) -> None:
+        dotted = message.dotted
+        if message.value != self.scene.get(dotted) and not self.set_value(dotted, message.value):
+            message.field.show(self.scene.get(dotted))
+            return  # refused: the field keeps focus for another try
+        message.field.show(self.scene.get(dotted))  # canonical text, e.g. "1.0" → "1"
+        if message.submitted:
+            self.screen.focus_next()  # Enter: on to the next field
+
+    def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
+        try:
+            new = self.scene.with_objects(message.objects)
+        except SceneError as e:
+            self.notify(str(e), title="Object refused", severity="error", timeout=8)
+            if message.field is not None:
+                message.field.show(message.field.last_good)
+            return
+        self.apply_scene(new)
+        if message.submitted:
+            self.screen.focus_next()
+
+    def on_controls_command(self, message: Controls.Command) -> None:
+        if message.command == "restart":
+            self.action_restart()
+        elif message.command == "defaults":
+            self.apply_scene(Scene(name=self.scene.name), restart=True)
+            self.notify("Settings restored to their defaults")
+        elif message.command == "hide":
+            self.action_toggle_controls()
+
+    def on_key(self, event: events.Key) -> None:
+        """A digit typed with no field focused was meant for a field: say so, and what the
+        view keys typed with it (`.` `,` `-` `+`) did, rather than orbit in silence."""
+        if event.character and event.character.isdigit() and self.focused is None:
+            self.notify(typed_digit_notice(event.character, self.recent_view_keys()),
+                        severity="warning", timeout=4)
+
+    def action_toggle_controls(self) -> None:
+        """Hide or show the side panel; on a narrow screen, open or close the drawer."""
+        narrow = self.screen.has_class(NARROW_CLASS)
+        self.query_one("#main").toggle_class("-drawer-open" if narrow else "-controls-hidden")
+
+    def action_help(self) -> None:
+        if isinstance(self.screen, HelpScreen):
+            self.pop_screen()
+        else:
+            self.push_screen(HelpScreen())
