@@ -143,10 +143,15 @@ class Renderer:
                 self.plotter.remove_actor(actor, render=False)
         tri = np.asarray(model.triangles, dtype=np.int64)
         faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
-        self.cloth = pv.PolyData(positions.copy(), faces)
+        # float32: what the GL buffers hold, so VTK uploads them without converting
+        self.cloth = pv.PolyData(positions.astype(np.float32), faces)
         self.cloth.active_texture_coordinates = grid_uv(model.n)
-        self.cloth.point_data["Normals"] = vertex_normals(positions, tri)
+        self.cloth.point_data["Normals"] = vertex_normals(positions, tri,
+                                                          np.empty(positions.shape, np.float32))
         self.cloth.point_data.active_normals_name = "Normals"
+        # NumPy views of VTK's own arrays: each frame writes into them, allocating nothing
+        self._points_view = self.cloth.points
+        self._normals_view = self.cloth.point_data["Normals"]
         self.cloth_actor = self._add_shared(self.cloth)
         self.wire = self._shared_lines(triangle_edges(tri))
         self.wire.GetPointData().SetNormals(self.cloth.GetPointData().GetNormals())
@@ -177,10 +182,10 @@ class Renderer:
         return actor
 
     def _update_cloth(self, positions: np.ndarray) -> None:
-        self.cloth.points[:] = positions
-        self.cloth.point_data["Normals"][:] = vertex_normals(positions, self._tri)
+        self._points_view[:] = positions
+        vertex_normals(positions, self._tri, self._normals_view)
         self.cloth.GetPoints().Modified()
-        self.cloth.point_data["Normals"].VTKObject.Modified()
+        self._normals_view.VTKObject.Modified()
         for mesh in (self.cloth, self.wire, self.lines):
             mesh.Modified()
 
