@@ -14,12 +14,14 @@ import math
 
 import numpy as np
 
+from .antialias import antialias
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals,
                        view_plane_delta)
 from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
+from .shadow import Shadow
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
 
@@ -28,6 +30,8 @@ HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), s
 HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visible
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
+FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
+BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
 
 
@@ -47,6 +51,11 @@ class Renderer:
         self.plotter = pv.Plotter(off_screen=True, window_size=self.size, lighting="none")
         # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen).
         self.plotter.ren_win.SetMultiSamples(0)
+        # VTK's FXAA pass cost 12 ms here: anti-aliasing is a compiled pass over the
+        # picture read back instead (antialias.py).
+        # Both sides of the sheet lit: back faces take the flipped normal (VTK's two-sided
+        # lighting), and are drawn in a darker shade of the cloth colour (_style_cloth).
+        self.plotter.renderer.SetTwoSidedLighting(True)
         light = pv.Light(position=tuple(LIGHT_DIR * 10.0), focal_point=(0, 0, 0),
                          color=tuple(LIGHT_COLOR), intensity=SUN_INTENSITY,
                          light_type="scene light")
@@ -58,6 +67,7 @@ class Renderer:
         self.ground = Ground(pv, self.plotter)
         self.poles = Poles(pv, self.plotter)
         self.objects = Objects(pv, self.plotter)
+        self.shadow = Shadow(pv, self.plotter)
         self.cloth = self.cloth_actor = self.wire = self.wire_actor = None
         self.lines = self.lines_actor = None
         self._model = None
@@ -83,6 +93,7 @@ class Renderer:
         self._appearance_key = key
         self.plotter.set_background(a.fog_color)
         self.ground.update(scene, self._texture_image(a.ground_texture))
+        self.shadow.update_scene(scene, self.ground.textured)
         self.poles.update(scene)
         if self.cloth_actor is not None:
             self._style_cloth()
@@ -128,6 +139,11 @@ class Renderer:
             prop.specular = 1.0
             prop.specular_color = tuple(hex_rgb(a.cloth_specular))
             prop.specular_power = 8.0  # ≈ three.js's Blinn-Phong shininess 30 as Phong
+            back = self.pv.Property()  # a fresh copy: the front's settings, a darker colour
+            back.DeepCopy(prop)
+            back.color = tuple(BACK_SHADE * color)
+            back.ambient_color = tuple(np.clip(AMBIENT * BACK_SHADE * color, 0, 1))
+            actor.SetBackfaceProperty(back)
         self.cloth_actor.SetVisibility(not a.wireframe)
         self.wire_actor.SetVisibility(bool(a.wireframe))
 
@@ -221,17 +237,25 @@ class Renderer:
             self.distance = float(np.clip(self.distance / factor, 0.05, 200.0))
         self._apply_camera()
 
+    def view_distance(self) -> float:
+        """The camera's real distance: `distance` in views at least FIT_ASPECT wide; in
+        narrower ones (a tall preview or video) farther, by the aspect ratio, so what fits the
+        width of a square view fits theirs (the horizontal field shrinks with the aspect)."""
+        w, h = self.size
+        return self.distance * max(1.0, FIT_ASPECT * h / w)
+
     def _apply_camera(self) -> None:
         az, el = math.radians(self.azimuth), math.radians(self.elevation)
-        offset = self.distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
-                                           math.cos(el) * math.cos(az)])
+        distance = self.view_distance()
+        offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
+                                      math.cos(el) * math.cos(az)])
         cam = self.plotter.camera
         cam.focal_point = tuple(self.target)
         cam.position = tuple(self.target + offset)
         cam.up = (0.0, 1.0, 0.0)
         cam.view_angle = VIEW_ANGLE
-        far = self.distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
-        cam.clipping_range = (max(0.01, 0.02 * self.distance), far)
+        far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
+        cam.clipping_range = (max(0.01, 0.02 * distance), far)
         self.ground.shade(self.elevation)
 
     # -- drawing --------------------------------------------------------------------------
@@ -254,6 +278,7 @@ class Renderer:
             self._update_cloth(positions)
         self._positions = positions
         self.objects.update(snapshot.objects)
+        self.shadow.update(positions, snapshot.model.n, self.elevation)
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0
@@ -268,7 +293,7 @@ class Renderer:
     def _grab(self) -> np.ndarray:
         self.plotter.render()
         image = self.plotter.screenshot(return_img=True)
-        return np.ascontiguousarray(image[..., :3], dtype=np.uint8)
+        return antialias(image[..., :3])
 
     def pick(self, u: float, v: float) -> int | None:
         """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;
