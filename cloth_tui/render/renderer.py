@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from ..sim.surface import grid_cell_triangles, thinned_rows
 from .antialias import antialias
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        family_colors, grid_uv, hex_rgb,
@@ -31,6 +32,7 @@ HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visi
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
 FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
+MIN_CELL_PX = 1.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
 
@@ -158,11 +160,13 @@ class Renderer:
             if actor is not None:
                 self.plotter.remove_actor(actor, render=False)
         tri = np.asarray(model.triangles, dtype=np.int64)
-        faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
         # float32: what the GL buffers hold, so VTK uploads them without converting
-        self.cloth = pv.PolyData(positions.astype(np.float32), faces)
+        self.cloth = pv.PolyData()  # points alone: PolyData(points) would add a vertex each
+        self.cloth.points = positions.astype(np.float32)
+        self._model, self._stride = model, 0
+        self._set_faces(self._detail_stride())
         self.cloth.active_texture_coordinates = grid_uv(model.n)
-        self.cloth.point_data["Normals"] = vertex_normals(positions, tri,
+        self.cloth.point_data["Normals"] = vertex_normals(positions, self._tri,
                                                           np.empty(positions.shape, np.float32))
         self.cloth.point_data.active_normals_name = "Normals"
         # NumPy views of VTK's own arrays: each frame writes into them, allocating nothing
@@ -178,10 +182,33 @@ class Renderer:
         self.lines_actor = self.plotter.add_mesh(self.lines, scalars="rgb", rgb=True,
                                                  lighting=False, line_width=1.5,
                                                  show_scalar_bar=False, reset_camera=False)
-        self._tri = tri
-        self._model = model
         self._style_cloth()
         self.lines_actor.SetVisibility(bool(self._scene.appearance.show_constraints))
+
+    def _set_faces(self, stride: int) -> None:
+        """The one place the sheet's drawn triangles are chosen: the model's own, or at
+        `stride` > 1 those of every stride-th row and column (see _detail_stride). All
+        particles stay in the points (picking, wireframe and constraint lines use them)."""
+        if stride == self._stride:
+            return
+        model = self._model
+        if stride == 1:
+            tri = np.asarray(model.triangles, dtype=np.int64)
+        else:
+            tri = grid_cell_triangles(model.n, thinned_rows(model.n, stride))
+        self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
+        self._tri, self._stride = tri, stride
+
+    def _detail_stride(self) -> int:
+        """How many grid rows one drawn row spans: 1 unless the sheet's cells would be
+        narrower than MIN_CELL_PX on screen (at 640×384 a 256² sheet's are 0.9 px), where
+        software GL spends its time setting up triangles nobody can see. The wireframe is
+        always drawn whole: it shows the mesh itself."""
+        if self._scene.appearance.wireframe or self._model.n < 3:
+            return 1
+        half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
+        cell_px = self._model.spacing * self.size[1] / (2.0 * half_height_m)
+        return max(1, math.ceil(MIN_CELL_PX / max(cell_px, 1e-9)))
 
     def _shared_lines(self, edges: np.ndarray):
         mesh = self.pv.PolyData()
@@ -198,6 +225,7 @@ class Renderer:
         return actor
 
     def _update_cloth(self, positions: np.ndarray) -> None:
+        self._set_faces(self._detail_stride())
         self._points_view[:] = positions
         vertex_normals(positions, self._tri, self._normals_view)
         self.cloth.GetPoints().Modified()

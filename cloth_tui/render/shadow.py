@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .geometry import AMBIENT, GROUND_DIFFUSE, HEADLIGHT_INTENSITY, LIGHT_DIR, fog_factor, hex_rgb
+from ..sim.surface import grid_cell_triangles
 from .props import FOG_FAR, FOG_NEAR
 
 MAX_SIDE = 33          # particles per side of the coarse copy: a smooth outline, ~2k triangles
@@ -21,15 +22,10 @@ TEXTURED_ALPHA = 0.45  # darkening over a textured ground
 
 def coarse_grid(n: int, side: int = MAX_SIDE) -> tuple[np.ndarray, np.ndarray]:
     """Particle indices of an evenly thinned m×m copy of the n×n grid (corners kept) and its
-    triangles, two per cell."""
-    m = min(n, side)
-    rows = np.unique(np.round(np.linspace(0, n - 1, m)).astype(np.int64))
+    triangles, two per cell, indexing that copy."""
+    rows = np.unique(np.round(np.linspace(0, n - 1, min(n, side))).astype(np.int64))
     m = len(rows)
-    index = (rows[:, None] * n + rows[None, :]).ravel()
-    k = np.arange(m * m).reshape(m, m)
-    a, b, c, d = k[:-1, :-1].ravel(), k[:-1, 1:].ravel(), k[1:, :-1].ravel(), k[1:, 1:].ravel()
-    triangles = np.concatenate([np.c_[a, b, d], np.c_[a, d, c]])
-    return index, triangles
+    return (rows[:, None] * n + rows[None, :]).ravel(), grid_cell_triangles(m, np.arange(m))
 
 
 def project_to_floor(points: np.ndarray, floor_height: float, out: np.ndarray) -> np.ndarray:

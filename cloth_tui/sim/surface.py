@@ -53,6 +53,22 @@ def vertex_normals(points: np.ndarray, triangles: np.ndarray,
     return out
 
 
+def thinned_rows(n: int, stride: int) -> np.ndarray:
+    """Every `stride`-th row (or column) of an n×n grid, the last one always included."""
+    return np.unique(np.r_[np.arange(0, n, max(1, int(stride))), n - 1]).astype(np.int64)
+
+
+def grid_cell_triangles(n: int, rows: np.ndarray) -> np.ndarray:
+    """Two triangles per cell of the sub-grid `rows` × `rows` of an n-wide particle grid, as
+    particle indices, in the model's pattern and winding (model.grid_triangles is the case
+    rows = 0..n-1), so normals point the same way at any thinning."""
+    idx = rows[:, None] * n + rows[None, :]
+    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
+    t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
+    t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
+    return np.concatenate([t1, t2]).astype(np.int64)
+
+
 def grid_uv(n: int) -> np.ndarray:
     """Texture coordinates of the n×n particle grid: the whole image once across the sheet."""
     u = np.linspace(0.0, 1.0, n)

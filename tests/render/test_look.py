@@ -84,3 +84,24 @@ def test_antialiasing_softens_a_stair_step_and_leaves_flat_areas_alone():
     assert not changed[:, 25:].any()  # far from the edge nothing moves
     flat = np.full((20, 30, 3), 90, np.uint8)
     assert np.array_equal(antialias(flat), flat)
+
+
+def test_cells_smaller_than_a_pixel_are_drawn_thinned_and_look_the_same(renderer,
+                                                                        monkeypatch):
+    import cloth_tui.render.renderer as renderer_module
+
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    snap = draped(scene)
+    thinned = fresh(renderer, snap, size=(160, 120))  # a 128² sheet's cells are ~0.5 px here
+    assert renderer.cloth.n_cells <= len(snap.model.triangles) // 3
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle
+    whole = renderer.render(snap)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    assert np.abs(thinned.astype(int) - whole.astype(int)).mean() < 1.0  # sub-pixel detail
+    monkeypatch.undo()
+    renderer.zoom(8.0)  # close up, cells are wide again: every triangle
+    renderer.render(snap)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    wire = draped(scene_with(wireframe=True).with_value("cloth.resolution", 128))
+    fresh(renderer, wire, size=(160, 120))
+    assert renderer.cloth.n_cells == len(snap.model.triangles)  # the wireframe shows all
