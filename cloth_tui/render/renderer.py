@@ -51,12 +51,12 @@ class Renderer:
         self.pv = pv
         self.size = check_size(*size)
         self.plotter = pv.Plotter(off_screen=True, window_size=self.size, lighting="none")
-        # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen).
+        # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen), VTK's
+        # FXAA pass 12 ms at 640x384: anti-aliasing is a compiled pass over the picture read
+        # back instead (antialias.py).
         self.plotter.ren_win.SetMultiSamples(0)
-        # VTK's FXAA pass cost 12 ms here: anti-aliasing is a compiled pass over the
-        # picture read back instead (antialias.py).
-        # Both sides of the sheet lit: back faces take the flipped normal (VTK's two-sided
-        # lighting), and are drawn in a darker shade of the cloth colour (_style_cloth).
+        # Both sides of the sheet lit, each by the lights on its side (VTK flips a back
+        # face's normal); the underside also has a darker shade of the colour (_style_cloth).
         self.plotter.renderer.SetTwoSidedLighting(True)
         light = pv.Light(position=tuple(LIGHT_DIR * 10.0), focal_point=(0, 0, 0),
                          color=tuple(LIGHT_COLOR), intensity=SUN_INTENSITY,
