@@ -130,11 +130,15 @@ def test_vertex_normals_of_a_flat_sheet_point_up():
     assert np.allclose(np.abs(nrm[:, 1]), 1.0)
 
 
-def test_a_frame_updates_the_mesh_in_place_without_allocating_per_point(renderer):
+def test_a_frame_updates_the_mesh_in_place_without_allocating_per_point(renderer,
+                                                                        monkeypatch):
     """Points and normals are written into VTK's own arrays (normals by a compiled kernel):
     the only per-frame arrays of the sheet's size are the picking copy of the positions."""
     import tracemalloc
 
+    import cloth_tui.render.renderer as renderer_module
+
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle, even tiny
     scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
     first = draped(scene)
     fresh(renderer, first, (16, 12))
