@@ -191,7 +191,7 @@ class Behavior:
 
 @dataclass
 class Appearance:
-    wireframe: bool = key(True, "draw the cloth as a wireframe")
+    wireframe: bool = key(False, "draw the cloth as a wireframe")
     auto_rotate: bool = key(False, "orbit the camera")
     show_constraints: bool = key(False, "draw constraints coloured by family")
     cloth_color: str = key("#aa2929", "cloth colour", kind="color")

@@ -15,6 +15,10 @@ OBJECT_COLOR = "#e8e3d8"
 OBJECT_OPACITY = 0.55
 PLANE_HALF = 0.9  # m: shown extent of an (infinite) collision plane, about the sheet's
 PLANE_OPACITY = 0.35  # a plane spans the view: fainter, so the cloth stays the subject
+GRID_STEP = 0.5       # m between grid lines on the untextured ground (the texture's tile)
+GRID_HALF = 6.0       # m: the grid's half-width; fog has nearly hidden the ground there
+GRID_LIFT = 0.002     # m above the floor: over the ground and the cloth's shadow
+GRID_SHADE = 0.8      # grid line colour = ground colour × this: subtle, but height reads
 
 
 class Ground:
@@ -29,7 +33,8 @@ class Ground:
 
     def __init__(self, pv, plotter):
         self.pv = pv
-        disc = pv.Disc(inner=0.0, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=40, c_res=96)
+        # coarse: software GL pays per triangle (40×96 rings cost 1 ms more per frame)
+        disc = pv.Disc(inner=0.0, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=20, c_res=48)
         self.mesh = disc.triangulate()
         pts = np.asarray(self.mesh.points)
         self.base_xz = pts[:, [0, 2]].copy()  # for a 1 m sheet; scaled with the sheet
@@ -48,6 +53,12 @@ class Ground:
         self.fog.point_data["rgba"] = np.zeros((len(fog_pts), 4), np.uint8)
         self.fog_actor = plotter.add_mesh(self.fog, scalars="rgba", rgba=True, lighting=False,
                                           show_scalar_bar=False, reset_camera=False)
+        self.grid = grid_lines(pv, GRID_HALF, GRID_STEP)
+        self.grid_base_xz = np.asarray(self.grid.points)[:, [0, 2]].copy()
+        self.grid_fog = fog_factor(np.hypot(*self.grid_base_xz.T), FOG_NEAR, FOG_FAR)
+        self.grid.point_data["rgb"] = np.zeros((self.grid.n_points, 3), np.uint8)
+        self.grid_actor = plotter.add_mesh(self.grid, scalars="rgb", rgb=True, lighting=False,
+                                           show_scalar_bar=False, reset_camera=False)
         self.textured = False
         self.colors = (np.zeros(3), np.zeros(3), np.ones(3))  # ground, emissive, fog
         self.elevation = None
@@ -57,15 +68,18 @@ class Ground:
         scale = max(1.0, scene.cloth.size)  # a big sheet gets a wider ground and fog
         self.mesh.points[:, [0, 2]] = self.base_xz * scale
         self.fog.points[:, [0, 2]] = self.fog_base_xz * scale
+        self.grid.points[:, [0, 2]] = self.grid_base_xz * scale
         self.mesh.points[:, 1] = s.floor_height
-        self.fog.points[:, 1] = s.floor_height + 0.002  # just above, never through the cloth
-        for mesh in (self.mesh, self.fog):
+        self.fog.points[:, 1] = s.floor_height + 0.003  # just above, never through the cloth
+        self.grid.points[:, 1] = s.floor_height + GRID_LIFT
+        for mesh in (self.mesh, self.fog, self.grid):
             mesh.GetPoints().Modified()
             mesh.Modified()
         self.textured = texture_image is not None
         self.colors = (hex_rgb(a.ground_color), hex_rgb(a.ground_emissive), hex_rgb(a.fog_color))
         self.actor.SetVisibility(bool(s.floor))
         self.fog_actor.SetVisibility(bool(s.floor) and self.textured)
+        self.grid_actor.SetVisibility(bool(s.floor) and not self.textured)  # a texture shows height
         self.actor.mapper.SetScalarVisibility(not self.textured)
         self.actor.prop.lighting = self.textured
         # Unlit, VTK outputs ambient·colour + diffuse·colour: keep one term, the baked colour.
@@ -102,6 +116,25 @@ class Ground:
         rgb[:] = ((lit[None, :] * (1 - f) + fog[None, :] * f) * 255 + 0.5).astype(np.uint8)
         self.mesh.point_data["rgb"].VTKObject.Modified()
         self.mesh.Modified()
+        f = self.grid_fog[:, None]
+        line = GRID_SHADE * lit
+        self.grid.point_data["rgb"][:] = ((line * (1 - f) + fog * f) * 255 + 0.5).astype(np.uint8)
+        self.grid.point_data["rgb"].VTKObject.Modified()
+        self.grid.Modified()
+
+
+def grid_lines(pv, half: float, step: float):
+    """Lines every `step` m across a square of half-width `half` on the plane y = 0, each cut
+    into `step`-long segments so the fog baked into their colours varies along them."""
+    ticks = np.arange(-half, half + 1e-9, step)
+    m = len(ticks)
+    along, across = np.meshgrid(ticks, ticks, indexing="ij")  # [line, point along it]
+    xs = np.concatenate([across.ravel(), along.ravel()])  # lines along x, then along z
+    zs = np.concatenate([along.ravel(), across.ravel()])
+    points = np.c_[xs, np.zeros_like(xs), zs]
+    start = np.arange(2 * m * m).reshape(2 * m, m)[:, :-1].ravel()
+    segments = np.c_[np.full(len(start), 2), start, start + 1].ravel()
+    return pv.PolyData(points, lines=segments)
 
 
 class Poles:

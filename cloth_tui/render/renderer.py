@@ -14,6 +14,8 @@ import math
 
 import numpy as np
 
+from ..sim.surface import grid_cell_triangles, thinned_rows
+from .antialias import antialias
 from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        family_colors, grid_uv, hex_rgb,
@@ -21,6 +23,7 @@ from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN
                        view_plane_delta)
 from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
+from .shadow import Shadow
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
 
@@ -29,6 +32,9 @@ HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), s
 HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visible
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
+FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
+MIN_CELL_PX = 1.0          # grid cells drawn at least this wide on screen (see _detail_stride)
+BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
 
 
@@ -46,8 +52,13 @@ class Renderer:
         self.pv = pv
         self.size = check_size(*size)
         self.plotter = pv.Plotter(off_screen=True, window_size=self.size, lighting="none")
-        # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen).
+        # MSAA costs 4x per frame with Mesa's software GL (the usual case off-screen), VTK's
+        # FXAA pass 12 ms at 640x384: anti-aliasing is a compiled pass over the picture read
+        # back instead (antialias.py).
         self.plotter.ren_win.SetMultiSamples(0)
+        # Both sides of the sheet lit, each by the lights on its side (VTK flips a back
+        # face's normal); the underside also has a darker shade of the colour (_style_cloth).
+        self.plotter.renderer.SetTwoSidedLighting(True)
         light = pv.Light(position=tuple(LIGHT_DIR * 10.0), focal_point=(0, 0, 0),
                          color=tuple(LIGHT_COLOR), intensity=SUN_INTENSITY,
                          light_type="scene light")
@@ -59,10 +70,11 @@ class Renderer:
         self.ground = Ground(pv, self.plotter)
         self.poles = Poles(pv, self.plotter)
         self.objects = Objects(pv, self.plotter)
+        self.shadow = Shadow(pv, self.plotter)
         self.cloth = self.cloth_actor = self.wire = self.wire_actor = None
         self.lines = self.lines_actor = None
         self._model = None
-        self._faces_shown: tuple | None = None  # (cloth mesh, torn count) the faces are for
+        self._faces_for: tuple[int, int] | None = None  # (stride, torn count) drawn now
         self._tri_constraints: np.ndarray | None = None  # each triangle's edges' constraints
         self._positions: np.ndarray | None = None  # last finite positions drawn
         self._pick_state: tuple | None = None      # (world→clip matrix, positions)
@@ -86,6 +98,7 @@ class Renderer:
         self._appearance_key = key
         self.plotter.set_background(a.fog_color)
         self.ground.update(scene, self._texture_image(a.ground_texture))
+        self.shadow.update_scene(scene, self.ground.textured)
         self.poles.update(scene)
         if self.cloth_actor is not None:
             self._style_cloth()
@@ -131,6 +144,11 @@ class Renderer:
             prop.specular = 1.0
             prop.specular_color = tuple(hex_rgb(a.cloth_specular))
             prop.specular_power = 8.0  # ≈ three.js's Blinn-Phong shininess 30 as Phong
+            back = self.pv.Property()  # a fresh copy: the front's settings, a darker colour
+            back.DeepCopy(prop)
+            back.color = tuple(BACK_SHADE * color)
+            back.ambient_color = tuple(np.clip(AMBIENT * BACK_SHADE * color, 0, 1))
+            actor.SetBackfaceProperty(back)
         self.cloth_actor.SetVisibility(not a.wireframe)
         self.wire_actor.SetVisibility(bool(a.wireframe))
 
@@ -144,32 +162,82 @@ class Renderer:
         for actor in (self.cloth_actor, self.wire_actor, self.lines_actor):
             if actor is not None:
                 self.plotter.remove_actor(actor, render=False)
-        tri = np.asarray(model.triangles, dtype=np.int64)
-        faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
-        self.cloth = pv.PolyData(positions.copy(), faces)
+        # float32: what the GL buffers hold, so VTK uploads them without converting
+        self.cloth = pv.PolyData()  # points alone: PolyData(points) would add a vertex each
+        self.cloth.points = positions.astype(np.float32)
+        self._model, self._faces_for, self._tri_constraints = model, None, None
         self.cloth.active_texture_coordinates = grid_uv(model.n)
-        self.cloth.point_data["Normals"] = vertex_normals(positions, tri)
+        self.cloth.point_data["Normals"] = np.zeros(positions.shape, np.float32)  # _update_cloth
         self.cloth.point_data.active_normals_name = "Normals"
+        # NumPy views of VTK's own arrays: each frame writes into them, allocating nothing
+        self._points_view = self.cloth.points
+        self._normals_view = self.cloth.point_data["Normals"]
         self.cloth_actor = self._add_shared(self.cloth)
-        self.wire = self._shared_lines(triangle_edges(tri))
+        self.wire = self._shared_lines()  # its lines and the constraint lines: _set_faces
         self.wire.GetPointData().SetNormals(self.cloth.GetPointData().GetNormals())
         self.wire.GetPointData().SetTCoords(self.cloth.GetPointData().GetTCoords())
         self.wire_actor = self._add_shared(self.wire)
-        self.lines = self._shared_lines(np.asarray(model.edges, dtype=np.int64))
-        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family))
+        self.lines = self._shared_lines()
+        self._set_lines(np.ones(model.num_constraints, bool))
         self.lines_actor = self.plotter.add_mesh(self.lines, scalars="rgb", rgb=True,
                                                  lighting=False, line_width=1.5,
                                                  show_scalar_bar=False, reset_camera=False)
-        self._tri = tri
-        self._model = model
         self._style_cloth()
         self.lines_actor.SetVisibility(bool(self._scene.appearance.show_constraints))
 
-    def _shared_lines(self, edges: np.ndarray):
+    def _set_faces(self, snapshot) -> None:
+        """The one place the sheet's drawn triangles are chosen: the model's own; at stride > 1
+        those of every stride-th row and column (see _detail_stride); on a torn sheet, only
+        the triangles whose three constraints all hold, so a tear shows as a gap (drawn at
+        stride 1: thinned rows would bridge it). The wireframe draws the drawn triangles'
+        edges at stride 1, and the constraint lines lose the torn ones. Rebuilt only when
+        the stride or the torn count changes; all particles stay in the points (picking and
+        the lines use them)."""
+        model, alive = self._model, snapshot.alive
+        torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
+        stride = 1 if torn else self._detail_stride()
+        if self._faces_for == (stride, torn):
+            return
+        torn_changed = self._faces_for is None or self._faces_for[1] != torn
+        self._faces_for = (stride, torn)
+        if torn:
+            if self._tri_constraints is None:
+                self._tri_constraints = triangle_constraints(model)
+            tri = intact_triangles(model, alive, self._tri_constraints)
+        elif stride == 1:
+            tri = np.asarray(model.triangles, dtype=np.int64)
+        else:
+            tri = grid_cell_triangles(model.n, thinned_rows(model.n, stride))
+        self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
+        self._tri = tri
+        if torn_changed:
+            whole = tri if stride == 1 else np.asarray(model.triangles, dtype=np.int64)
+            edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
+            self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+            self._set_lines(alive.astype(bool) if torn else
+                            np.ones(model.num_constraints, bool))
+
+    def _set_lines(self, keep: np.ndarray) -> None:
+        """The constraint lines (appearance.show_constraints) of the constraints kept."""
+        model = self._model
+        kept = np.asarray(model.edges, np.int64)[keep]
+        self.lines.lines = np.c_[np.full(len(kept), 2, np.int64), kept].ravel()
+        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family)[keep])
+
+    def _detail_stride(self) -> int:
+        """How many grid rows one drawn row spans: 1 unless the sheet's cells would be
+        narrower than MIN_CELL_PX on screen (at 640×384 a 256² sheet's are 0.9 px), where
+        software GL spends its time setting up triangles nobody can see. The wireframe is
+        always drawn whole: it shows the mesh itself."""
+        if self._scene.appearance.wireframe or self._model.n < 3:
+            return 1
+        half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
+        cell_px = self._model.spacing * self.size[1] / (2.0 * half_height_m)
+        return max(1, math.ceil(MIN_CELL_PX / max(cell_px, 1e-9)))
+
+    def _shared_lines(self):
         mesh = self.pv.PolyData()
         mesh.SetPoints(self.cloth.GetPoints())
-        if len(edges):
-            mesh.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
         return mesh
 
     def _add_shared(self, mesh):
@@ -180,40 +248,10 @@ class Renderer:
         return actor
 
     def _update_cloth(self, positions: np.ndarray) -> None:
-        self.cloth.points[:] = positions
-        self.cloth.point_data["Normals"][:] = vertex_normals(positions, self._tri)
+        self._points_view[:] = positions
+        vertex_normals(positions, self._tri, self._normals_view)
         self.cloth.GetPoints().Modified()
-        self.cloth.point_data["Normals"].VTKObject.Modified()
-        for mesh in (self.cloth, self.wire, self.lines):
-            mesh.Modified()
-
-    def _show_tears(self, snapshot, positions: np.ndarray) -> None:
-        """Drop the triangles (and wireframe edges) that lost a constraint to a tear, so that
-        a torn edge shows as a gap, and the torn constraints' lines. Cells are rebuilt only
-        when the torn count changes."""
-        alive = snapshot.alive
-        torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
-        shown = self._faces_shown
-        if shown is not None and shown[0] is self.cloth and shown[1] == torn:
-            return
-        self._faces_shown = (self.cloth, torn)
-        if shown is None or shown[0] is not self.cloth:
-            self._tri_constraints = triangle_constraints(snapshot.model)
-            if not torn:
-                return  # a fresh mesh has every face
-        model = snapshot.model
-        tri = (np.asarray(model.triangles, np.int64) if not torn
-               else intact_triangles(model, alive, self._tri_constraints))
-        self._tri = tri
-        self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
-        edges = triangle_edges(tri) if len(tri) else np.zeros((0, 2), np.int64)
-        self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
-        keep = np.ones(model.num_constraints, bool) if not torn else alive.astype(bool)
-        kept = np.asarray(model.edges, np.int64)[keep]
-        self.lines.lines = np.c_[np.full(len(kept), 2, np.int64), kept].ravel()
-        self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family)[keep])
-        self.cloth.point_data["Normals"][:] = vertex_normals(positions, tri)
-        self.cloth.point_data["Normals"].VTKObject.Modified()
+        self._normals_view.VTKObject.Modified()
         for mesh in (self.cloth, self.wire, self.lines):
             mesh.Modified()
 
@@ -249,17 +287,25 @@ class Renderer:
             self.distance = float(np.clip(self.distance / factor, 0.05, 200.0))
         self._apply_camera()
 
+    def view_distance(self) -> float:
+        """The camera's real distance: `distance` in views at least FIT_ASPECT wide; in
+        narrower ones (a tall preview or video) farther, by the aspect ratio, so what fits the
+        width of a square view fits theirs (the horizontal field shrinks with the aspect)."""
+        w, h = self.size
+        return self.distance * max(1.0, FIT_ASPECT * h / w)
+
     def _apply_camera(self) -> None:
         az, el = math.radians(self.azimuth), math.radians(self.elevation)
-        offset = self.distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
-                                           math.cos(el) * math.cos(az)])
+        distance = self.view_distance()
+        offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
+                                      math.cos(el) * math.cos(az)])
         cam = self.plotter.camera
         cam.focal_point = tuple(self.target)
         cam.position = tuple(self.target + offset)
         cam.up = (0.0, 1.0, 0.0)
         cam.view_angle = VIEW_ANGLE
-        far = self.distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
-        cam.clipping_range = (max(0.01, 0.02 * self.distance), far)
+        far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
+        cam.clipping_range = (max(0.01, 0.02 * distance), far)
         self.ground.shade(self.elevation)
 
     # -- drawing --------------------------------------------------------------------------
@@ -278,11 +324,11 @@ class Renderer:
         positions = self._good_positions(snapshot)
         if snapshot.model is not self._model:
             self._build_cloth(snapshot.model, positions)
-        else:
-            self._update_cloth(positions)
-        self._show_tears(snapshot, positions)
+        self._set_faces(snapshot)
+        self._update_cloth(positions)
         self._positions = positions
         self.objects.update(snapshot.objects)
+        self.shadow.update(positions, snapshot.model.n, self.elevation)
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0
@@ -297,7 +343,7 @@ class Renderer:
     def _grab(self) -> np.ndarray:
         self.plotter.render()
         image = self.plotter.screenshot(return_img=True)
-        return np.ascontiguousarray(image[..., :3], dtype=np.uint8)
+        return antialias(image[..., :3])
 
     def pick(self, u: float, v: float) -> int | None:
         """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;

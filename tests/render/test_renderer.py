@@ -128,3 +128,29 @@ def test_vertex_normals_of_a_flat_sheet_point_up():
     snap = draped(scene_with(), sag=0.0)
     nrm = vertex_normals(snap.positions, snap.model.triangles)
     assert np.allclose(np.abs(nrm[:, 1]), 1.0)
+
+
+def test_a_frame_updates_the_mesh_in_place_without_allocating_per_point(renderer,
+                                                                        monkeypatch):
+    """Points and normals are written into VTK's own arrays (normals by a compiled kernel):
+    the only per-frame arrays of the sheet's size are the picking copy of the positions."""
+    import tracemalloc
+
+    import cloth_tui.render.renderer as renderer_module
+
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle, even tiny
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    first = draped(scene)
+    fresh(renderer, first, (16, 12))
+    normals = renderer.cloth.point_data["Normals"]
+    second = draped(scene, sag=0.1, model=first.model)
+    tracemalloc.start()
+    renderer.render(second)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 1.5 * second.positions.nbytes
+    np.testing.assert_allclose(renderer.cloth.point_data["Normals"],
+                               vertex_normals(second.positions, second.model.triangles),
+                               atol=1e-5)
+    np.testing.assert_allclose(renderer.cloth.points, second.positions, atol=1e-6)
+    assert np.shares_memory(normals, renderer.cloth.point_data["Normals"])

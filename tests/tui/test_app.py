@@ -79,9 +79,9 @@ def test_panel_controls_change_the_scene(tmp_path):
             field.value = ""
             await pilot.press("w", "a", "q")
             assert field.value == "waq"
-            assert app.scene.appearance.wireframe is True and app.is_running
+            assert app.scene.appearance.wireframe is False and app.is_running
             await pilot.press("escape", "w")
-            assert app.scene.appearance.wireframe is False
+            assert app.scene.appearance.wireframe is True
     run(go())
 
 
@@ -90,9 +90,9 @@ def test_view_keys_save_and_hide(tmp_path):
         app = make_app(tmp_path, Scene().with_value("forces.wind", True))
         async with app.run_test(size=SIZE) as pilot:
             await pilot.press("w")
-            assert app.scene.appearance.wireframe is False
-            assert app.query_one("#" + widget_id("appearance.wireframe"), Switch).value is False
-            await until(pilot, lambda: not app.renderer.scene.appearance.wireframe)
+            assert app.scene.appearance.wireframe is True
+            assert app.query_one("#" + widget_id("appearance.wireframe"), Switch).value is True
+            await until(pilot, lambda: app.renderer.scene.appearance.wireframe)
             await pilot.press("a")
             assert app.scene.appearance.auto_rotate is True
 

@@ -1,0 +1,107 @@
+"""The picture's qualities (issue 14 item 3): the sheet's underside, its shadow, the ground
+grid, framing in a tall view, anti-aliasing."""
+
+import numpy as np
+
+from cloth_tui.render.antialias import antialias
+from cloth_tui.render.renderer import BACK_SHADE
+
+from .helpers import draped, red_pixels, scene_with, with_positions
+
+
+def fresh(renderer, snap, size=(320, 240), elevation=None):
+    renderer.resize(*size)
+    renderer.update_scene(snap.scene)
+    renderer.reset_camera()
+    if elevation is not None:
+        renderer.orbit(0.0, elevation - renderer.elevation)
+    return renderer.render(snap)
+
+
+def cloth_red(img):
+    r, g, b = (img[..., k].astype(float) for k in range(3))
+    mask = (r > 2 * g) & (r > 2 * b) & (r > 40)
+    return mask, r[mask]
+
+
+def test_each_side_is_lit_by_the_lights_on_its_side_and_the_underside_is_darker(renderer):
+    scene = scene_with(wireframe=False).with_value("scene.floor", False)
+    flat = draped(scene, sag=0.0)
+    top_mask, top = cloth_red(fresh(renderer, flat, elevation=30.0))
+    under_mask, under = cloth_red(fresh(renderer, flat, elevation=-30.0))
+    assert top_mask.sum() > 2000 and under_mask.sum() > 2000  # seen from both sides
+    # The sun is above: the underside has ambient light and the headlight only, so it is
+    # clearly darker than the sunlit top, yet lit (not black).
+    ratio = np.median(under) / np.median(top)
+    assert 0.25 < ratio < 0.55 and np.median(under) > 40, ratio
+    color = np.array(renderer.cloth_actor.GetProperty().GetDiffuseColor())
+    back = np.array(renderer.cloth_actor.GetBackfaceProperty().GetDiffuseColor())
+    np.testing.assert_allclose(back, BACK_SHADE * color, atol=2 / 255)  # 8-bit colours
+
+
+def test_the_sheet_casts_a_shadow_on_the_ground(renderer):
+    snap = draped(scene_with(wireframe=False))
+    away = with_positions(snap, snap.positions + [40.0, 0.0, 0.0])  # far off, in the fog
+    with_sheet, without = fresh(renderer, snap), fresh(renderer, away)
+    darker = (without.astype(int) - with_sheet.astype(int)).sum(axis=2) > 30
+    not_cloth = ~cloth_red(with_sheet)[0]
+    assert (darker & not_cloth).sum() > 2000  # ground pixels the sheet shades
+
+
+def test_the_ground_has_a_grid_so_height_reads(renderer):
+    snap = draped(scene_with(wireframe=False))
+    away = with_positions(snap, snap.positions + [40.0, 0.0, 0.0])
+    img = fresh(renderer, away).astype(float).sum(axis=2)
+    row = img[-20]  # the ground near the camera
+    dips = (row[2:-2] < row[:-4] - 6) & (row[2:-2] < row[4:] - 6)
+    assert dips.sum() >= 4  # crossing several grid lines
+    textured = fresh(renderer, draped(scene_with(wireframe=False, ground_texture="maze")))
+    assert renderer.ground.grid_actor.GetVisibility() == 0  # a texture already shows height
+    assert red_pixels(textured) > 0
+
+
+def test_a_tall_view_frames_the_whole_sheet(renderer):
+    snap = draped(scene_with(wireframe=False))
+    fresh(renderer, snap, size=(194, 240))  # what an 80×24 terminal's video was: 388×480
+    matrix = renderer._pick_state[0]
+    h = np.c_[snap.positions, np.ones(len(snap.positions))] @ matrix.T
+    ndc = h[:, :2] / h[:, 3:]
+    assert np.abs(ndc).max() < 0.95  # every particle inside the picture, with a margin
+    wide = fresh(renderer, snap, size=(320, 240))
+    assert renderer.view_distance() == renderer.distance and red_pixels(wide) > 1000
+
+
+def test_antialiasing_softens_a_stair_step_and_leaves_flat_areas_alone():
+    img = np.zeros((40, 40, 3), np.uint8)
+    for y in range(40):
+        img[y, : y // 3] = 220  # a shallow diagonal edge: stair steps
+    out = antialias(img)
+    assert out.shape == img.shape and out.dtype == np.uint8
+    changed = np.any(out != img, axis=2)
+    assert changed.sum() >= 10
+    between = (out[..., 0] > 20) & (out[..., 0] < 200)
+    assert between.sum() >= 10  # intermediate shades along the steps
+    assert not changed[:, 25:].any()  # far from the edge nothing moves
+    flat = np.full((20, 30, 3), 90, np.uint8)
+    assert np.array_equal(antialias(flat), flat)
+
+
+def test_cells_smaller_than_a_pixel_are_drawn_thinned_and_look_the_same(renderer,
+                                                                        monkeypatch):
+    import cloth_tui.render.renderer as renderer_module
+
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    snap = draped(scene)
+    thinned = fresh(renderer, snap, size=(160, 120))  # a 128² sheet's cells are ~0.5 px here
+    assert renderer.cloth.n_cells <= len(snap.model.triangles) // 3
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle
+    whole = renderer.render(snap)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    assert np.abs(thinned.astype(int) - whole.astype(int)).mean() < 1.0  # sub-pixel detail
+    monkeypatch.undo()
+    renderer.zoom(8.0)  # close up, cells are wide again: every triangle
+    renderer.render(snap)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    wire = draped(scene_with(wireframe=True).with_value("cloth.resolution", 128))
+    fresh(renderer, wire, size=(160, 120))
+    assert renderer.cloth.n_cells == len(snap.model.triangles)  # the wireframe shows all
