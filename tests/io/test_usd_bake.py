@@ -182,13 +182,19 @@ def test_saves_thin_out_when_they_grow_slow(tmp_path, monkeypatch):
     clock = Clock()
     monkeypatch.setattr(usd_bake, "time", clock)
     saves = []
-    real_replace = os.replace
 
-    def slow_replace(src, dst):
-        saves.append(clock.t)
-        clock.t += 2.0
-        real_replace(src, dst)
-    monkeypatch.setattr(usd_bake.os, "replace", slow_replace)
+    class SlowReplaceOs:
+        """usd_bake's own `os`, with a replace that takes 2 s of the fake clock. Not the os
+        module itself: a thread left by another test that renames a file would count."""
+
+        def __getattr__(self, name):
+            return getattr(os, name)
+
+        def replace(self, src, dst):
+            saves.append(clock.t)
+            clock.t += 2.0
+            os.replace(src, dst)
+    monkeypatch.setattr(usd_bake, "os", SlowReplaceOs())
     scene = apply_overrides(load("sphere"), ["cloth.resolution=4"])
     model = build_model(scene.cloth, scene.behavior)
     writer = usd_bake.UsdBakeWriter(tmp_path / "s.usdc", scene, model)

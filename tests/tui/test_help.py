@@ -29,8 +29,9 @@ def test_help_lists_every_key_and_mouse_action_by_group(tmp_path):
             assert ("⏎", "apply the value and move to the next field") in groups["Fields"]
             assert groups["Mouse"] == MOUSE_ACTIONS
 
+            wireframe = app.scene.appearance.wireframe
             await pilot.press("w")  # nothing acts unseen behind the help
-            assert app.scene.appearance.wireframe is True
+            assert app.scene.appearance.wireframe is wireframe
             await pilot.press("escape")
             assert not isinstance(app.screen, HelpScreen)
             await pilot.press("f1")

@@ -119,7 +119,7 @@ def test_camera_appearance_and_capture_keys_reach_the_renderer(tmp_path, bake_pa
     async def go():
         app = make_replay(tmp_path, bake_path)
         async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("right_square_bracket", "plus", "0", "w", "i", "v")
+            await pilot.press("right_square_bracket", "plus", "o", "w", "i", "v")
             names = [c[0] for c in app.renderer.calls]
             for call in ("orbit", "zoom", "reset_camera", "update_scene", "screenshot"):
                 assert call in names
