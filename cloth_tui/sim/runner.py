@@ -17,6 +17,7 @@ from ..scene import Behavior, Scene, integrator_for
 from . import pipeline
 from .measures import (constraint_error, elastic_energy, energy, gravitational_energy,
                        kinetic_energy, max_stretch, stretch)
+from .held_contacts import check_held_particles
 from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
 from .substep_control import SubstepController
@@ -85,10 +86,12 @@ class Simulation:
     def _rebuild(self, scene: Scene, model: bool) -> None:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
         Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
-        self.scene = scene
         b = scene.behavior
+        new_model = build_model(scene.cloth, b) if model else self.model
+        check_held_particles(scene, new_model)  # before anything changes: a refusal keeps all
+        self.scene = scene
         if model:
-            self.model = build_model(scene.cloth, b)
+            self.model = new_model
             self.state = ClothState.from_model(self.model)
             self._good = self.state.copy()  # the state before the current frame
             self.frames = 0

@@ -25,6 +25,7 @@ from ..render.capture import timestamped
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
 from ..scene import save as save_scene
+from ..sim.held_contacts import check_start
 from ..sim.runner import SimulationThread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, BUMP_M, ORBIT_DEG, TEXT_KEYS_ACTIONS, VIEW_SPAN, ZOOM_STEP
@@ -290,6 +291,7 @@ class ClothApp(App):
         """Apply one setting live; a refused value is reported and changes nothing."""
         try:
             new = self.scene.with_value(dotted, value)
+            check_start(new)  # refused here, not by the simulation thread
         except SceneError as e:
             self.notify(str(e), title="Value refused", severity="error", timeout=8)
             return False
@@ -311,6 +313,7 @@ class ClothApp(App):
     def open_scene(self, name: str) -> None:
         try:
             new = load(name)
+            check_start(new)
         except SceneError as e:
             self.notify(str(e), severity="error")
             return

@@ -51,3 +51,20 @@ def test_a_refused_value_is_shown_literally_even_when_it_looks_like_markup(tmp_p
             assert refused and all(shown_safely(n.message) for n in refused)
             assert all(not n.markup for n in refused)
     run(go())
+
+
+def test_a_change_that_puts_held_particles_inside_an_object_is_refused_not_fatal(tmp_path):
+    """A box the pinned corners of a shrunk sheet start in: refused with the reason before the
+    simulation thread sees it (it raised there and the thread died)."""
+    scene = Scene().with_values({"scene.object": "box", "cloth.height": 0.0})
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            assert not app.set_value("cloth.size", 0.4)
+            await pilot.pause()
+            assert any("encloses a held particle" in m for m in notifications(app))
+            assert app.scene.cloth.size == 1.0
+            await pilot.pause(0.3)
+            assert app.sim.error is None and app.sim.sim.scene.cloth.size == 1.0
+    run(go())
