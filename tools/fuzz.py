@@ -12,7 +12,10 @@ Each run is classified:
   timeout       no result within --timeout seconds
   non_finite    exit 0 but positions are not finite
   penetration   deepest contact penetration beyond scene.thickness + 1 cm
-  halted        the guard gave up (divergence even at 16× the substeps)
+  halted        the guard gave up (divergence even at 16× the substeps), in a scene that
+                should be stable: a failure
+  diverged      the guard gave up on springs with an explicit integrator whose substep is
+                beyond the documented stability limit even at 16× (a true divergence: fine)
   stderr        exit 0 with output on stderr (warnings)
 A run can have several classes; the summary counts each. `--keep DIR` writes the TOML of
 every run that is not ok or refused, named by its index, to reproduce with `simulate`.
@@ -46,6 +49,7 @@ sys.path.insert(0, str(ROOT))
 
 from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, not installed)
 from cloth_tui.resources import assets_dir  # noqa: E402
+from cloth_tui.sim.runner import MAX_GUARD_LEVEL  # noqa: E402
 
 WORK_BUDGET = 1_000_000  # particles × substeps × passes per frame (work_per_frame)
 IMPLICIT_PASSES = 40  # what a substep of implicit Euler is counted as (see _passes)
@@ -242,10 +246,24 @@ def classify(code: int | None, out: str, err: str, doc: dict) -> tuple[list[str]
     if stats["penetration"] > thickness + PENETRATION_SLACK:
         classes.append("penetration")
     if stats.get("halted"):
-        classes.append("halted")
+        classes.append("diverged" if unstable_even_at_the_guards_substeps(doc) else "halted")
     if err.strip():
         classes.append("stderr")
     return classes or ["ok"], stats
+
+
+def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
+    """Springs with an explicit integrator whose substep, even at the guard's most substeps,
+    is beyond the stability limit the stiffness key documents, h < 0.66·√(m/k) (m the
+    lightest particle's mass): a divergence, which the guard is right to halt."""
+    scene = sc.from_dict(doc)
+    b, c = scene.behavior, scene.cloth
+    if b.solver != "springs" or sc.integrator_for(b) == "implicit_euler":
+        return False
+    n = c.resolution
+    lightest = c.mass / n ** 2 if c.mass_model == "uniform" else c.mass / (n - 1) ** 2 / 4
+    h = 1.0 / (b.frame_rate * b.substeps * 2 ** MAX_GUARD_LEVEL)
+    return h > 0.66 * math.sqrt(lightest / b.stiffness)
 
 
 def run_one(seed: int, index: int, frames: int, timeout: float, keep: Path | None) -> dict:
@@ -294,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in results:
             for c in r["classes"]:
                 counts[c] = counts.get(c, 0) + 1
-            if not set(r["classes"]) <= {"ok", "refused"}:
+            if not set(r["classes"]) <= {"ok", "refused", "diverged"}:
                 failures.append(r)
             print(json.dumps(r) if args.json else
                   f"{r['index']:5d} {','.join(r['classes']):<24} {r['seconds']:6.1f}s "
