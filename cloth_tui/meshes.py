@@ -6,8 +6,9 @@ functions that need it, so the physics (cloth_tui.sim), which receives the resul
 arrays, loads no GL or VTK module unless a scene has a mesh.
 
 The grid's cell is half the cloth's particle spacing (a contact never lands more than a
-quarter spacing from a sample), but at least the mesh's extent / MAX_CELLS, so a large mesh
-under a fine sheet stays at most MAX_CELLS³ samples (about a second to build). It is padded by
+quarter spacing from a sample), but at least the extent of the mesh and its skin / MAX_CELLS,
+so a large mesh (or a thick skin) under a fine sheet stays at most (MAX_CELLS + 2·PAD_CELLS)³
+samples (about a second to build). It is padded by
 the collision skin and PAD_CELLS cells on every side; beyond it, the distance is taken as
 far (no contact). Results are cached per (file, its size and mtime, transform, cell).
 
@@ -153,7 +154,8 @@ def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness:
     surface.points = (np.asarray(raw.points, dtype=np.float64) * scale) @ \
         rotation_matrix(rotation).T
     lo, hi = np.asarray(surface.bounds, dtype=np.float64).reshape(3, 2).T
-    extent = float((hi - lo).max())
+    # the skin counts too: a tiny mesh in a thick skin took 450³ samples (minutes, GBs)
+    extent = float((hi - lo).max()) + 2.0 * thickness
     cell = max(spacing / 2.0, extent / MAX_CELLS, 1e-6)
     pad = thickness + PAD_CELLS * cell
     origin = lo - pad

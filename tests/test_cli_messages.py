@@ -6,6 +6,7 @@ import io
 import json
 import unicodedata
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -71,3 +72,22 @@ def test_paths_longer_than_the_file_system_allows_exit_2(tmp_path):
         code, _, err = run_cli(argv)
         assert code == 2, argv
         assert_one_safe_line(err)
+
+
+@pytest.mark.parametrize("name", ["out.png", "out.mp4", "out.gif"])
+def test_render_to_an_existing_folder_with_a_file_name_exits_2(tmp_path, name):
+    (tmp_path / name).mkdir()
+    code, _, err = run_cli(["render", "default", "-o", str(tmp_path / name), "--size", "64x48",
+                            "--frames", "2"])
+    assert code == 2 and (tmp_path / name).is_dir()
+    assert_one_safe_line(err)
+
+
+def test_the_reported_divergence_inside_a_frame_halts_with_a_reason_not_a_crash():
+    # issue 19's example: a ZeroDivisionError in the black hole's kernel before the guard ran
+    code, out, err = run_cli(["simulate", "default", "--set", "behavior.solver=springs",
+                              "--set", "behavior.integrator=verlet", "--set",
+                              "behavior.stiffness=1e9", "--set", "forces.custom=black_hole",
+                              "--frames", "10", "--json"])
+    stats = json.loads(out)
+    assert code == 0 and err == "" and stats["finite"] and "diverges" in stats["halted"]

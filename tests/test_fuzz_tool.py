@@ -40,7 +40,12 @@ def test_most_scenes_are_valid_and_within_the_work_budget():
             continue
         valid += 1
         b = scene.behavior
-        assert scene.cloth.resolution ** 2 * b.substeps * b.iterations <= fuzz.WORK_BUDGET
+        # the most substeps a frame may take: adaptive rises to max_substeps (pbd, xpbd)
+        substeps = max(b.substeps, b.max_substeps) if b.adaptive and b.solver != "springs" \
+            else b.substeps
+        passes = b.iterations if b.solver != "springs" else \
+            fuzz.IMPLICIT_PASSES if b.integrator in ("auto", "implicit_euler") else 4
+        assert scene.cloth.resolution ** 2 * substeps * passes <= fuzz.WORK_BUDGET
     assert valid >= 50
 
 
@@ -61,3 +66,15 @@ def test_classification():
 def test_one_scene_runs_in_its_own_process():
     result = fuzz.run_one(seed=1, index=7, frames=2, timeout=120, keep=None)
     assert result["exit"] in (0, 2) and result["classes"]
+
+
+def test_a_halt_is_a_failure_unless_the_step_is_past_the_stability_limit():
+    halted = '{"finite": true, "penetration": 0, "halted": "the step diverges"}'
+    # rk4 springs at 2000 N/m on 0.3 mg particles: 0.66·√(m/k) = 0.26 ms, 16 × 1 substep at
+    # 31.6 frames/s is 2 ms: a true divergence
+    explicit = {"behavior": {"solver": "springs", "integrator": "rk4", "substeps": 1,
+                             "frame_rate": 31.58}}
+    assert fuzz.classify(0, halted, "", explicit)[0] == ["diverged"]
+    explicit["behavior"]["substeps"] = 64  # 15 µs: stable, so a halt is not explained
+    assert fuzz.classify(0, halted, "", explicit)[0] == ["halted"]
+    assert fuzz.classify(0, halted, "", {})[0] == ["halted"]  # pbd never diverges while finite

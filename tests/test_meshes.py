@@ -104,3 +104,13 @@ def test_rotation_is_about_x_then_y_then_z():
     # x first takes +y to +z, then y takes +z to +x
     assert r @ np.array([0.0, 1.0, 0.0]) == pytest.approx([1.0, 0.0, 0.0], abs=1e-12)
     assert SceneObject().rotation == [0.0, 0.0, 0.0] and SceneObject().scale == 1.0
+
+
+@pytest.mark.parametrize("scale,thickness", [(1e-12, 0.12), (1e-3, 0.3), (1.0, 1.0), (1.0, 0.0)])
+def test_the_distance_grid_stays_bounded_whatever_the_skin(torus, scale, thickness):
+    # a tiny mesh in a thick skin under a fine sheet (spacing 4.4 mm, issue 19's fuzzer) was
+    # sampled on a grid of skin / (spacing / 2) cells a side: 450³ at thickness 0.5 m
+    field = meshes.field_for(SceneObject(type="mesh", path=str(torus), scale=scale),
+                             spacing=1.0 / 226, thickness=thickness)
+    assert max(field.distance.shape) <= meshes.MAX_CELLS + 2 * meshes.PAD_CELLS + 2
+    assert field.cell * (max(field.distance.shape) - 1) >= 2 * thickness  # the skin is inside

@@ -12,7 +12,10 @@ Each run is classified:
   timeout       no result within --timeout seconds
   non_finite    exit 0 but positions are not finite
   penetration   deepest contact penetration beyond scene.thickness + 1 cm
-  halted        the guard gave up (divergence even at 16× the substeps)
+  halted        the guard gave up (divergence even at 16× the substeps), in a scene that
+                should be stable: a failure
+  diverged      the guard gave up on springs with an explicit integrator whose substep is
+                beyond the documented stability limit even at 16× (a true divergence: fine)
   stderr        exit 0 with output on stderr (warnings)
 A run can have several classes; the summary counts each. `--keep DIR` writes the TOML of
 every run that is not ok or refused, named by its index, to reproduce with `simulate`.
@@ -20,8 +23,10 @@ every run that is not ok or refused, named by its index, to reproduce with `simu
 Values are drawn from each key's declaration (range, choices, kind): the declared edges,
 the default, and log-uniform values between, plus an occasional value outside the range or
 of the wrong type (to exercise refusal). So that each run ends in seconds on a shared
-machine, particles × substeps × iterations per frame is kept under a budget by lowering
-iterations, then substeps, then resolution; every key still reaches its extremes alone.
+machine, the work of a frame (particles × substeps × passes, counting the substeps adaptive
+may rise to and implicit Euler's solver iterations: `work_per_frame`) is kept under a budget
+by lowering iterations, then max_substeps, then substeps, then resolution; every key still
+reaches its extremes alone. A run that still exceeds --timeout is a failure ("timeout").
 """
 
 from __future__ import annotations
@@ -44,8 +49,10 @@ sys.path.insert(0, str(ROOT))
 
 from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, not installed)
 from cloth_tui.resources import assets_dir  # noqa: E402
+from cloth_tui.sim.runner import MAX_GUARD_LEVEL  # noqa: E402
 
-WORK_BUDGET = 1_000_000  # particles × substeps × iterations per frame
+WORK_BUDGET = 1_000_000  # particles × substeps × passes per frame (work_per_frame)
+IMPLICIT_PASSES = 40  # what a substep of implicit Euler is counted as (see _passes)
 PENETRATION_SLACK = 0.01  # m beyond scene.thickness
 WRONG = ["text", True, -1, 1e308, [1, 2], {"a": 1}, float("inf")]
 
@@ -143,28 +150,55 @@ def _sheet_above_floor(rng: random.Random, doc: dict) -> None:
         doc.setdefault("cloth", {})["height"], doc.setdefault("scene", {})["floor_height"] = f, h
 
 
-def _within_budget(doc: dict) -> None:
-    cloth, behavior = doc.setdefault("cloth", {}), doc.setdefault("behavior", {})
+def _passes(behavior: dict, iterations: int) -> int:
+    """Sweeps over the particles per substep: the constraint passes of pbd/xpbd, the conjugate
+    gradient iterations of implicit Euler (typically tens at its tolerance, up to 400), the
+    stages of an explicit integrator (rk4 has four)."""
+    if behavior.get("solver", "pbd") != "springs":
+        return iterations
+    return IMPLICIT_PASSES if behavior.get("integrator", "auto") in ("auto", "implicit_euler") \
+        else 4
+
+
+def work_per_frame(doc: dict) -> int | None:
+    """Particles × substeps × passes of the scene's most expensive frame without a guard
+    retry: with adaptive (pbd, xpbd), the substeps may rise to max_substeps. None if a value
+    is of the wrong type (the scene will be refused)."""
+    cloth, behavior = doc.get("cloth", {}), doc.get("behavior", {})
     get = {"resolution": cloth.get("resolution", 26), "substeps": behavior.get("substeps", 4),
-           "iterations": behavior.get("iterations", 4)}
+           "iterations": behavior.get("iterations", 4),
+           "max_substeps": behavior.get("max_substeps", 128)}
     if not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in get.values()):
-        return  # a wrong value: the scene will be refused anyway
-    n, s, it = get["resolution"], get["substeps"], get["iterations"]
+        return None
+    return get["resolution"] ** 2 * _substeps(behavior, get["substeps"], get["max_substeps"]) \
+        * _passes(behavior, get["iterations"])
+
+
+def _substeps(behavior: dict, substeps: int, max_substeps: int) -> int:
+    adaptive = behavior.get("adaptive", True) and behavior.get("solver", "pbd") != "springs"
+    return max(substeps, max_substeps) if adaptive is True else substeps
+
+
+def _within_budget(doc: dict) -> None:
+    """Lower iterations, then the adaptive ceiling, then substeps, then the resolution until
+    work_per_frame is within WORK_BUDGET."""
+    if work_per_frame(doc) is None:
+        return
+    cloth, behavior = doc.setdefault("cloth", {}), doc.setdefault("behavior", {})
     if behavior.get("self_collision") == "naive":
-        n = min(n, 32)
-    while n * n * s * it > WORK_BUDGET:
-        if it > 4:
-            it = max(4, it // 2)
+        cloth["resolution"] = min(cloth.get("resolution", 26), 32)
+    while work_per_frame(doc) > WORK_BUDGET:
+        it, ms = behavior.get("iterations", 4), behavior.get("max_substeps", 128)
+        s = behavior.get("substeps", 4)
+        adaptive = _substeps(behavior, s, ms) > s
+        if it > 4 and behavior.get("solver", "pbd") != "springs":
+            behavior["iterations"] = max(4, it // 2)
+        elif adaptive and ms > 4:
+            behavior["max_substeps"] = max(4, ms // 2)
         elif s > 4:
-            s = max(4, s // 2)
+            behavior["substeps"] = max(4, s // 2)
         else:
-            n = max(2, int(n / 1.5))
-    if n != get["resolution"]:
-        cloth["resolution"] = n
-    if s != get["substeps"]:
-        behavior["substeps"] = s
-    if it != get["iterations"]:
-        behavior["iterations"] = it
+            cloth["resolution"] = max(2, int(cloth.get("resolution", 26) / 1.5))
 
 
 def to_toml(doc: dict) -> str:
@@ -212,10 +246,24 @@ def classify(code: int | None, out: str, err: str, doc: dict) -> tuple[list[str]
     if stats["penetration"] > thickness + PENETRATION_SLACK:
         classes.append("penetration")
     if stats.get("halted"):
-        classes.append("halted")
+        classes.append("diverged" if unstable_even_at_the_guards_substeps(doc) else "halted")
     if err.strip():
         classes.append("stderr")
     return classes or ["ok"], stats
+
+
+def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
+    """Springs with an explicit integrator whose substep, even at the guard's most substeps,
+    is beyond the stability limit the stiffness key documents, h < 0.66·√(m/k) (m the
+    lightest particle's mass): a divergence, which the guard is right to halt."""
+    scene = sc.from_dict(doc)
+    b, c = scene.behavior, scene.cloth
+    if b.solver != "springs" or sc.integrator_for(b) == "implicit_euler":
+        return False
+    n = c.resolution
+    lightest = c.mass / n ** 2 if c.mass_model == "uniform" else c.mass / (n - 1) ** 2 / 4
+    h = 1.0 / (b.frame_rate * b.substeps * 2 ** MAX_GUARD_LEVEL)
+    return h > 0.66 * math.sqrt(lightest / b.stiffness)
 
 
 def run_one(seed: int, index: int, frames: int, timeout: float, keep: Path | None) -> dict:
@@ -264,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in results:
             for c in r["classes"]:
                 counts[c] = counts.get(c, 0) + 1
-            if not set(r["classes"]) <= {"ok", "refused"}:
+            if not set(r["classes"]) <= {"ok", "refused", "diverged"}:
                 failures.append(r)
             print(json.dumps(r) if args.json else
                   f"{r['index']:5d} {','.join(r['classes']):<24} {r['seconds']:6.1f}s "

@@ -57,19 +57,15 @@ def max_stretch(x, edges, rest, alive) -> float:
 
 
 @kernel(fastmath=False)
-def fastest_free_speed(x, v, inv_mass) -> float:
-    """max |v component| over the free particles (inv_mass > 0), m/s; NaN if any position or
-    velocity is not finite. One pass, no temporary arrays: the runner's check of every frame
-    (a masked NumPy version took 0.75 ms at 128², 12 % of the frame)."""
-    fastest = 0.0
+def all_finite(x, v) -> bool:
+    """Every position and velocity finite. One pass, no temporary arrays: the runner's check
+    of every frame (NumPy's isfinite(...).all() allocates two per-particle masks; a masked
+    check took 0.75 ms at 128², 12 % of the frame)."""
     for i in range(x.shape[0]):
         for k in range(3):
             if not (math.isfinite(x[i, k]) and math.isfinite(v[i, k])):
-                return math.nan
-            s = abs(v[i, k])
-            if inv_mass[i] > 0.0 and s > fastest:
-                fastest = s
-    return fastest
+                return False
+    return True
 
 
 @kernel(fastmath=False)

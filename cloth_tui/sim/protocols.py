@@ -52,6 +52,7 @@ class Collider(Effect, Protocol):
     """`apply` is the contact projection (run after the prediction, and again after the
     constraints); it records each contact's depth and normal for `apply_friction`, which runs
     once per substep after the last projection and clears them."""
+    depth: np.ndarray  # (N,) m: how far the object pushed each particle this substep
 
     def apply_friction(self, state: ClothState, h: float) -> None:
         ...

@@ -5,7 +5,6 @@ publishing immutable snapshots."""
 from __future__ import annotations
 
 import dataclasses
-import math
 import threading
 import time
 from collections import deque
@@ -16,8 +15,9 @@ import numpy as np
 
 from ..scene import Behavior, Scene, integrator_for
 from . import pipeline
-from .measures import (constraint_error, elastic_energy, energy, fastest_free_speed,
+from .measures import (all_finite, constraint_error, elastic_energy, energy,
                        gravitational_energy, kinetic_energy, max_stretch, stretch)
+from .held_contacts import check_held_particles
 from .model import ClothModel, build_model, uses_tethers
 from .state import ClothState
 from .substep_control import SubstepController
@@ -37,7 +37,6 @@ SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts a
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
-RUNAWAY_SPEED = 4.0  # × behavior.max_speed: a free particle this fast means divergence
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
 PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
 STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
@@ -89,10 +88,12 @@ class Simulation:
     def _rebuild(self, scene: Scene, model: bool) -> None:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
         Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
-        self.scene = scene
         b = scene.behavior
+        new_model = build_model(scene.cloth, b) if model else self.model
+        check_held_particles(scene, new_model)  # before anything changes: a refusal keeps all
+        self.scene = scene
         if model:
-            self.model = build_model(scene.cloth, b)
+            self.model = new_model
             self.state = ClothState.from_model(self.model)
             self._good = self.state.copy()  # the state before the current frame
             self.frames = 0
@@ -137,7 +138,7 @@ class Simulation:
         if self.halted:
             return
         t0 = time.perf_counter()
-        if not math.isnan(self._fastest()):  # finite (a state broken between frames falls back further)
+        if self._finite():  # (a state broken between frames falls back further)
             self._good.restore(self.state)  # the frame's start, with bumps since the last
         e0 = self._energy_scale() if self._watch_energy() else None
         self.step.frame(self.state)
@@ -185,20 +186,19 @@ class Simulation:
         scale = float(m.mass.sum()) * g * m.size + internal + 1e-12
         return internal + gravitational_energy(m, st, sc), scale
 
-    def _fastest(self) -> float:
-        """Fastest velocity component of a free particle; NaN if the state is not finite."""
-        return fastest_free_speed(self.state.x, self.state.v, self.model.inv_mass)
+    def _finite(self) -> bool:
+        return all_finite(self.state.x, self.state.v)
 
     def _healthy(self, e0: tuple[float, float] | None) -> bool:
-        """Finite, no runaway speed, and (springs only) no energy gained from nowhere and, for
-        explicit integrators, no spring at over twice its rest length. Position-based solvers
-        keep speeds clamped and may legitimately stretch a lot at few iterations; a force-based
-        integrator going unstable shows as stretch or as energy, since its speeds are clamped
-        too."""
-        b = self.scene.behavior
-        fastest = self._fastest()
-        if not fastest <= RUNAWAY_SPEED * b.max_speed:  # NaN: not finite
+        """Finite, and (springs only) no energy gained from nowhere and, for explicit
+        integrators, no spring at over twice its rest length. Every solver clamps speeds to
+        max_speed, so speed shows nothing. A position-based step cannot run away while finite
+        (its prediction is clamped, projection and contacts only move particles towards
+        satisfied constraints and surfaces), and may legitimately stretch a lot at few
+        iterations; a force-based integrator going unstable shows as stretch or as energy."""
+        if not self._finite():
             return False
+        b = self.scene.behavior
         if b.solver != "springs":
             return True
         # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
@@ -278,7 +278,7 @@ class Simulation:
 
     def stats(self) -> dict:
         x = self.state.x
-        finite = self.state.is_finite()
+        finite = self._finite()
         max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
                          else (float("nan"),) * 2)
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))

@@ -7,7 +7,7 @@ One substep, as in the original (Ten Minute Physics reads the same way):
     project_constraints         `iterations` coloured Gauss-Seidel passes (xpbd.py; PBD is
                                 XPBD with compliance 0)
     (resolve contacts, pins)
-    update_velocities           v ← (x − x_prev)/h
+    update_velocities           v ← (x − x_prev)/h, clamped to max_speed
 All kernels are compiled with nogil so the simulation thread leaves the GIL to the UI.
 """
 
@@ -57,11 +57,22 @@ def integrate_verlet(x, x_prev, v, accel, inv_mass, h, keep, max_speed):
 
 
 @kernel()
-def update_velocities(x, x_prev, v, inv_h):
+def update_velocities(x, x_prev, v, inv_mass, inv_h, max_speed):
+    """v ← (x − x_prev)/h, a free particle's clamped to max_speed as the springs' are: a
+    contact or constraint correction at a short substep would otherwise read as a speed the
+    next prediction clamps anyway (a 5 cm push at h = 2 µs is 25 km/s). Pins keep the speed
+    they are driven at. A NaN fails the comparison and stays visible."""
+    vmax2 = max_speed * max_speed
     for i in range(x.shape[0]):
         v[i, 0] = (x[i, 0] - x_prev[i, 0]) * inv_h
         v[i, 1] = (x[i, 1] - x_prev[i, 1]) * inv_h
         v[i, 2] = (x[i, 2] - x_prev[i, 2]) * inv_h
+        s2 = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+        if inv_mass[i] != 0.0 and s2 > vmax2:
+            s = max_speed / math.sqrt(s2)
+            v[i, 0] *= s
+            v[i, 1] *= s
+            v[i, 2] *= s
 
 
 class IntegrateVerlet:
@@ -80,8 +91,13 @@ class IntegrateVerlet:
 class UpdateVelocities:
     name = "update_velocities"
 
+    def __init__(self, model, max_speed: float):
+        self.inv_mass = model.inv_mass
+        self.max_speed = max_speed
+
     def apply(self, state, h):
-        update_velocities(state.x, state.x_prev, state.v, 1.0 / h)
+        update_velocities(state.x, state.x_prev, state.v, self.inv_mass, 1.0 / h,
+                          self.max_speed)
 
 
 class PositionBasedSolver:
@@ -99,7 +115,7 @@ class PositionBasedSolver:
             model, b.iterations, b.compliance if xpbd else 0.0, h,
             name="project_xpbd_constraints" if xpbd else "project_constraints")
         self._constraints: list[Effect] = [self.projection] if model.num_constraints else []
-        self._velocities = UpdateVelocities()
+        self._velocities = UpdateVelocities(model, b.max_speed)
 
     @property
     def lambdas(self) -> np.ndarray:

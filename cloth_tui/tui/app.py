@@ -25,6 +25,7 @@ from textual.widgets._select import SelectOverlay
 
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError, load
+from ..sim.held_contacts import check_start
 from ..sim.runner import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
@@ -240,6 +241,7 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
         """Apply one setting live; a refused value is reported and changes nothing."""
         try:
             new = self.scene.with_value(dotted, value)
+            check_start(new)  # refused here, not by the simulation thread
         except SceneError as e:
             self.notify(str(e), title="Value refused", severity="error", timeout=8)
             return False
@@ -261,6 +263,7 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
     def open_scene(self, name: str) -> None:
         try:
             new = load(name)
+            check_start(new)
         except SceneError as e:
             self.notify(str(e), severity="error")
             return

@@ -11,6 +11,7 @@ from textual.screen import Screen
 from textual.widget import Widget
 
 from ..scene import Scene, SceneError
+from ..sim.held_contacts import check_start
 from .help import HelpScreen
 from .panels import Controls, ObjectsPanel, SettingField
 from .view_actions import typed_digit_notice
@@ -48,6 +49,7 @@ class PanelActions:
     def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
         try:
             new = self.scene.with_objects(message.objects)
+            check_start(new)  # an object over a pinned particle: refused here, not by the sim
         except SceneError as e:
             self.notify(str(e), title="Object refused", severity="error", timeout=8)
             if message.field is not None:

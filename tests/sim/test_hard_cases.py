@@ -74,9 +74,11 @@ def test_coincident_particles():
         if frame == 0:
             sim.state.x[:] = sim.state.x[0]  # every particle at one point
     # The sheet unfolds from a point into a tangle: some constraints stay stretched where
-    # folds lock them (no substeps unlock a fold), so the max bound is loose; the mean holds.
+    # folds lock them (no substeps unlock a fold), so the max bound is loose, and the mean
+    # too a little: 0.051 (it was 0.05 while the guard mistook the unfolding's speeds for
+    # divergence and redid frames at up to 16× the substeps; it no longer reads speeds).
     sim = run_hard({"cloth.pinned": "none", "cloth.resolution": 10}, on_frame=crush,
-                   max_stretch=1.5)
+                   max_stretch=1.5, max_mean=0.06)
     assert np.ptp(sim.state.x[:, 0]) > 0.3  # it did spread out
 
 

@@ -8,7 +8,7 @@ from textual.widgets import Input
 from cloth_tui.scene import Scene, load, save
 from cloth_tui.tui.panels import widget_id
 
-from .conftest import SIZE, make_app, notifications, run
+from .conftest import SIZE, make_app, notifications, run, until
 
 UNSAFE = {"Cc", "Cf", "Zl", "Zp", "Cs"}
 
@@ -50,4 +50,47 @@ def test_a_refused_value_is_shown_literally_even_when_it_looks_like_markup(tmp_p
             refused = [n for n in app._notifications if "cloth_color" in n.message]
             assert refused and all(shown_safely(n.message) for n in refused)
             assert all(not n.markup for n in refused)
+    run(go())
+
+
+def test_a_change_that_puts_held_particles_inside_an_object_is_refused_not_fatal(tmp_path):
+    """A box the pinned corners of a shrunk sheet start in: refused with the reason before the
+    simulation thread sees it (it raised there and the thread died)."""
+    scene = Scene().with_values({"scene.object": "box", "cloth.height": 0.0})
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            assert not app.set_value("cloth.size", 0.4)
+            await pilot.pause()
+            assert any("encloses a held particle" in m for m in notifications(app))
+            assert app.scene.cloth.size == 1.0
+            await pilot.pause(0.3)
+            assert app.sim.error is None and app.sim.sim.scene.cloth.size == 1.0
+    run(go())
+
+
+def test_an_object_added_over_a_pinned_corner_is_refused_not_fatal(tmp_path):
+    """The Scene group's objects go through the same check as a setting: a sphere edited onto
+    a pinned corner is refused with the reason, and the simulation thread lives on."""
+    from textual.widgets import Collapsible
+
+    scene = Scene().with_values({"scene.object": "none"})
+    scene = scene.with_objects([{"type": "sphere", "center": [2.0, 0.0, 0.0], "radius": 0.2}])
+    corner = scene.cloth.size / 2
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            app.query_one("#group-scene", Collapsible).collapsed = False
+            center = app.query_one("#" + widget_id("objects.0.center"), Input)
+            center.focus()
+            center.value = f"{corner}, {scene.cloth.height}, {corner}"
+            await pilot.press("enter")
+            await until(pilot, lambda: any("encloses a held particle" in m
+                                           for m in notifications(app)), what="refusal")
+            assert list(app.scene.objects[0].center) == [2.0, 0.0, 0.0]
+            await pilot.pause(0.3)
+            assert app.sim.error is None
+            assert list(app.sim.sim.scene.objects[0].center) == [2.0, 0.0, 0.0]
     run(go())

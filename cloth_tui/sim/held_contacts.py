@@ -1,0 +1,96 @@
+"""Held particles (pins, and both edges of the wave) are never pushed by a contact: one that
+starts inside an object's skin, or a sheet held on both sides of a plane (which cannot be
+walked around), makes contacts that can never hold. The sheet then tears itself apart
+between the object and the pins (issue 19's fuzzer: a sphere of radius 1000 m around a pinned
+sheet, a plane above pinned corners). Such a scene is refused with the reason, as
+scene.validate refuses held particles inside the floor; that one is checked there, since it
+needs no model. Checked at the start, with the objects where the scene puts them (a moving
+object is not followed along its orbit).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..scene import Scene, SceneError
+from .colliders import Floor, ObjectCollider, ShapeCollider, build_colliders
+from .forces import wave_rows
+from .mesh_collider import build_mesh_colliders
+from .model import ClothModel, build_model
+
+WAVE_SAMPLES = 9  # heights of the wave's driven edge checked, from trough to crest
+
+
+def check_held_particles(scene: Scene, model: ClothModel) -> None:
+    """Raise SceneError naming the first object that holds a held particle in its skin, or
+    a plane with held particles on both sides of it."""
+    if not len(model.pinned):
+        return
+    for points in _held_positions(scene, model):
+        _check_objects(scene, model, points)
+
+
+def _check_objects(scene: Scene, model: ClothModel, points: np.ndarray) -> None:
+    s = scene.scene
+    for where, collider in _objects(scene, model):
+        if isinstance(collider, ObjectCollider) and collider.kind == "plane":
+            d = (points - collider.center0) @ collider.normal
+            if (d > 0).any() and (d < 0).any():
+                raise SceneError(f"{where} (a plane) passes between held particles "
+                                 f"({_held(scene)}): the sheet is held on both sides of a plane "
+                                 "it cannot cross; move the plane or the sheet")
+            d = np.abs(d)
+        else:
+            d = collider.signed_distance(points)
+        k = int(np.argmin(d))
+        if d[k] < s.thickness:
+            p = ", ".join(f"{v:.3g}" for v in points[k])
+            kind = collider.name.removeprefix("collide_")
+            raise SceneError(f"{where} (a {kind}) encloses a held particle ({_held(scene)}) "
+                             f"at ({p}) m: it is within the object's surface + scene.thickness "
+                             f"= {s.thickness:g} m, where no contact can push it out; move the "
+                             "object or the sheet (cloth.height, cloth.size)")
+
+
+def check_start(scene: Scene) -> None:
+    """The same check for a scene that has no simulation yet (the app, before it applies a
+    change): a model without tethers is enough, and cheaper."""
+    behavior = dataclasses.replace(scene.behavior, tethers=False)
+    check_held_particles(scene, build_model(scene.cloth, behavior))
+
+
+def _held(scene: Scene) -> str:
+    c, b = scene.cloth, scene.behavior
+    return f"cloth.pinned = \"{c.pinned}\"" + (", behavior.wave" if b.wave else "")
+
+
+def _held_positions(scene: Scene, model: ClothModel) -> list[np.ndarray]:
+    """Where the held particles are at the start and, with the wave, with its driven edge at
+    each of several heights from trough to crest (the floor check takes its trough). Each set
+    has at most one point per particle (signed_distance reads a per-particle side)."""
+    rest = model.rest_positions
+    b = scene.behavior
+    if not b.wave or b.wave_amplitude == 0.0:
+        return [rest[model.pinned]]
+    driven = np.isin(model.pinned, wave_rows(model.n)[0])
+    out = []
+    for dy in np.linspace(-b.wave_amplitude, b.wave_amplitude, WAVE_SAMPLES):
+        points = rest[model.pinned].copy()
+        points[driven, 1] += dy
+        out.append(points)
+    return out
+
+
+def _objects(scene: Scene, model: ClothModel) -> list[tuple[str, ShapeCollider]]:
+    """(key, collider) of every object, the floor left out: build_colliders gives
+    scene.object, then the shapes of [[objects]] in order; build_mesh_colliders the meshes."""
+    shapes = [c for c in build_colliders(scene, model) if not isinstance(c, Floor)]
+    meshes = build_mesh_colliders(scene, model)
+    where = ["scene.object"] if scene.scene.object != "none" else []
+    where += [f"objects[{i}]" for i, o in enumerate(scene.objects) if o.type != "mesh"]
+    where += [f"objects[{i}]" for i, o in enumerate(scene.objects) if o.type == "mesh"]
+    colliders = shapes + meshes
+    assert len(where) == len(colliders)  # the order build_colliders documents
+    return list(zip(where, colliders))
