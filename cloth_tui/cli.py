@@ -150,7 +150,7 @@ def _add_dask_args(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_scenes(args) -> int:
-    from .scene import builtin_scenes
+    from .resources import builtin_scenes
     for name, path in builtin_scenes().items():
         first = path.read_text(encoding="utf-8").splitlines()[0:1]
         doc = first[0].lstrip("# ").strip() if first and first[0].startswith("#") else ""
@@ -163,7 +163,7 @@ def cmd_simulate(args) -> int:
 
     import numpy as np
 
-    from .scene import apply_overrides, load
+    from .scene_files import apply_overrides, load
 
     scene = apply_overrides(load(args.scene), args.overrides)
     if args.dump:
@@ -214,7 +214,7 @@ def cmd_wedge(args) -> int:
 
 
 def cmd_app(args) -> int:
-    from .scene import apply_overrides, load
+    from .scene_files import apply_overrides, load
 
     if Path(args.scene).suffix.lower() in (".usd", ".usdc", ".usda"):  # a bake: replay it
         from .tui.replay_app import run_replay_app

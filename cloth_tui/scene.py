@@ -1,4 +1,5 @@
-"""The scene schema: typed dataclasses, TOML load/save, `--set` overrides and validation.
+"""The scene schema: typed dataclasses, validation and dict conversion (files and `--set`
+overrides: scene_files; the README's key reference: scene_reference).
 
 Every key is declared once, with its default, unit, allowed range and help text, in the
 field metadata below. Validation, the README's key reference and the TUI's panels all read
@@ -10,19 +11,14 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
-import os
 import re
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
-from .resources import builtin_scenes  # name → file; also used as scene.builtin_scenes
 from .safe_text import escape_controls
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
-from .util import atomic_write
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 MAX_RESOLUTION = 512
@@ -217,7 +213,7 @@ class Scene:
         return copy.deepcopy(self)
 
     def get(self, dotted: str) -> Any:
-        section, name = _split_key(dotted)
+        section, name = split_key(dotted)
         return getattr(getattr(self, section), name)
 
     def with_value(self, dotted: str, value: Any) -> "Scene":
@@ -229,7 +225,7 @@ class Scene:
         keys that constrain each other may change in any order)."""
         new = self.copy()
         for dotted, value in values.items():
-            section, name = _split_key(dotted)
+            section, name = split_key(dotted)
             sec = getattr(new, section)
             setattr(sec, name, _coerce(sec, name, value, dotted))
         validate(new)
@@ -245,7 +241,7 @@ SECTION_TYPES = {"cloth": Cloth, "forces": Forces, "scene": SceneSection,
 
 
 def key_spec(dotted: str) -> dataclasses.Field:
-    section, name = _split_key(dotted)
+    section, name = split_key(dotted)
     return {f.name: f for f in dataclasses.fields(SECTION_TYPES[section])}[name]
 
 
@@ -253,7 +249,7 @@ def all_keys() -> list[str]:
     return [f"{s}.{f.name}" for s in SECTIONS for f in dataclasses.fields(SECTION_TYPES[s])]
 
 
-def _split_key(dotted: str) -> tuple[str, str]:
+def split_key(dotted: str) -> tuple[str, str]:
     parts = dotted.split(".")
     if len(parts) != 2 or parts[0] not in SECTION_TYPES:
         raise SceneError(f"unknown key {dotted!r}: expected SECTION.KEY with SECTION one of "
@@ -264,7 +260,7 @@ def _split_key(dotted: str) -> tuple[str, str]:
     return parts[0], parts[1]
 
 
-def _describe_allowed(f: dataclasses.Field) -> str:
+def describe_allowed(f: dataclasses.Field) -> str:
     m = f.metadata
     if m["choices"]:
         return "one of " + ", ".join(m["choices"])
@@ -293,7 +289,7 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     def bad(reason: str = "") -> SceneError:
         shown = short_repr(value)
         return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
-                          f"expected {_describe_allowed(f)}")
+                          f"expected {describe_allowed(f)}")
 
     if m["kind"].startswith("vec3"):
         if not isinstance(value, (list, tuple)) or len(value) != 3:
@@ -448,127 +444,3 @@ def to_dict(scene: Scene, only_changed: bool = False) -> dict:
     if scene.objects:
         out["objects"] = [dataclasses.asdict(o) for o in scene.objects]
     return out
-
-
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def dumps(scene: Scene) -> str:
-    # A comment cannot hold control characters (a newline in a file's name would end it).
-    lines = [f"# cloth-tui scene: {escape_controls(scene.name)}"]
-    for section, values in to_dict(scene).items():
-        if section == "objects":
-            for obj in values:
-                lines += ["", "[[objects]]"] + [f"{k} = {_toml_value(v)}" for k, v in obj.items()]
-        else:
-            lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in values.items()]
-    return "\n".join(lines) + "\n"
-
-
-def loads(text: str, name: str = "scene") -> Scene:
-    return from_dict(_parse_toml(text, name), name)
-
-
-def _parse_toml(text: str, where: str) -> dict:
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise SceneError(f"{where}: TOML syntax error: {e}") from None
-    except RecursionError:  # thousands of nested arrays or inline tables
-        raise SceneError(f"{where}: arrays or tables nested too deeply") from None
-    except ValueError:  # an integer past Python's 4300-digit conversion limit
-        raise SceneError(f"{where}: an integer with too many digits") from None
-
-
-def load(ref: str | os.PathLike) -> Scene:
-    """Load a scene from a path, or by the name of a built-in scene."""
-    path = Path(ref)
-    if not path.suffix and str(ref) in builtin_scenes():
-        path = builtin_scenes()[str(ref)]
-    try:
-        is_file = path.is_file()
-    except OSError as e:  # a name longer than the file system allows
-        raise SceneError(f"scene {short_repr(str(ref))}: {e.strerror}") from None
-    if not is_file:
-        names = ", ".join(builtin_scenes())
-        raise SceneError(f"scene {str(ref)!r} not found: not a file, nor a built-in scene "
-                         f"({names})")
-    try:
-        raw = path.read_bytes()
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SceneError(f"{path}: not a UTF-8 text file") from None
-    except OSError as e:
-        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
-    scene = loads(text, name=path.stem)
-    for o in scene.objects:  # a mesh's path is relative to the scene file
-        if o.path and not Path(o.path).expanduser().is_absolute():
-            o.path = str(path.parent.resolve() / o.path)
-    return scene
-
-
-def save(scene: Scene, path: str | os.PathLike) -> Path:
-    """Write atomically (util.atomic_write), with the permissions the umask gives."""
-    path = Path(path)
-    text = dumps(scene)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_write(path, "w", encoding="utf-8") as fh:
-            fh.write(text)
-    except OSError as e:
-        raise SceneError(f"cannot write {path}: {e.strerror}") from None
-    return path
-
-
-def parse_override(text: str) -> tuple[str, Any]:
-    """`section.key=value`: the value is read as TOML, or as a bare string if that fails."""
-    if not isinstance(text, str) or "=" not in text:
-        raise SceneError(f"--set {text!r}: expected SECTION.KEY=VALUE")
-    dotted, raw = text.split("=", 1)
-    dotted, raw = dotted.strip(), raw.strip()
-    _split_key(dotted)
-    if raw == "":
-        raise SceneError(f"--set {text!r}: missing value after '='")
-    try:
-        value = tomllib.loads(f"v = {raw}")["v"]
-    except tomllib.TOMLDecodeError:
-        value = raw
-    except RecursionError:
-        raise SceneError(f"--set {dotted}: arrays or tables nested too deeply") from None
-    except ValueError:  # an integer past Python's 4300-digit conversion limit
-        raise SceneError(f"--set {dotted}: an integer with too many digits") from None
-    return dotted, value
-
-
-def apply_overrides(scene: Scene, overrides: list[str] | None) -> Scene:
-    return scene.with_values(dict(parse_override(text) for text in overrides or []))
-
-
-def reference_markdown() -> str:
-    """The README's key reference, generated from the declarations above."""
-    rows = []
-    for s in SECTIONS:
-        rows += [f"\n### [{s}]\n", "| key | default | unit | allowed | meaning |",
-                 "|---|---|---|---|---|"]
-        for f in dataclasses.fields(SECTION_TYPES[s]):
-            rows.append(_reference_row(f))
-    rows += ["\n### [[objects]]\n",
-             "Each `[[objects]]` table adds one object (a custom scene with several objects).\n",
-             "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
-    rows += [_reference_row(f) for f in dataclasses.fields(SceneObject)]
-    return "\n".join(rows) + "\n"
-
-
-def _reference_row(f: dataclasses.Field) -> str:
-    default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
-    return (f"| `{f.name}` | `{_toml_value(default)}` | {f.metadata['unit']} | "
-            f"{_describe_allowed(f)} | {f.metadata['doc']} |")

@@ -6,7 +6,8 @@ import sys
 import numpy as np
 import pytest
 
-from cloth_tui.scene import builtin_scenes, load
+from cloth_tui.resources import builtin_scenes
+from cloth_tui.scene_files import load
 from cloth_tui.sim.runner import Simulation
 
 REQUIRED = ("default", "sphere", "box", "moving-sphere", "flag-in-wind", "rain", "black-hole",

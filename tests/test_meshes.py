@@ -10,7 +10,8 @@ pv = pytest.importorskip("pyvista")
 
 from cloth_tui import meshes  # noqa: E402
 from cloth_tui.cli import main  # noqa: E402
-from cloth_tui.scene import SceneError, SceneObject, loads  # noqa: E402
+from cloth_tui.scene import SceneError, SceneObject  # noqa: E402
+from cloth_tui.scene_files import loads  # noqa: E402
 
 
 def write_scene(folder, mesh_path: str):

@@ -1,7 +1,10 @@
 import pytest
 
 from cloth_tui import scene as sc
+from cloth_tui import scene_files as sf
+from cloth_tui.resources import builtin_scenes
 from cloth_tui.scene import Scene, SceneError
+from cloth_tui.scene_reference import reference_markdown
 
 
 def test_defaults_keep_the_originals_proportions():
@@ -16,16 +19,16 @@ def test_defaults_keep_the_originals_proportions():
 
 
 def test_builtin_default_is_addressable_by_name():
-    assert "default" in sc.builtin_scenes()
-    assert sc.load("default").cloth.resolution == 26
+    assert "default" in builtin_scenes()
+    assert sf.load("default").cloth.resolution == 26
 
 
 def test_save_and_load_round_trip(tmp_path):
     s = Scene().with_value("forces.wind", True).with_value("cloth.resolution", 40)
     s.objects.append(sc.SceneObject(type="box", center=[0.1, 0.0, 0.0]))
     s.objects.append(sc.SceneObject(type="capsule", axis=[0.0, 0.0, 1.0], length=0.3))
-    path = sc.save(s, tmp_path / "mine.toml")
-    back = sc.load(path)
+    path = sf.save(s, tmp_path / "mine.toml")
+    back = sf.load(path)
     assert back == s
 
 
@@ -47,7 +50,7 @@ def test_save_and_load_round_trip(tmp_path):
 ])
 def test_bad_documents_name_the_problem(text, words):
     with pytest.raises(SceneError) as e:
-        sc.loads(text)
+        sf.loads(text)
     msg = str(e.value)
     assert "\n" not in msg
     for w in words:
@@ -55,7 +58,7 @@ def test_bad_documents_name_the_problem(text, words):
 
 
 def test_overrides_parse_toml_values_and_bare_strings():
-    s = sc.apply_overrides(Scene(), ["forces.wind=true", "cloth.pinned=one_edge",
+    s = sf.apply_overrides(Scene(), ["forces.wind=true", "cloth.pinned=one_edge",
                                      "forces.wind_direction=[1, 0, 0]", "cloth.size=2"])
     assert s.forces.wind is True and s.cloth.pinned == "one_edge"
     assert s.forces.wind_direction == [1.0, 0.0, 0.0] and s.cloth.size == 2.0
@@ -65,7 +68,7 @@ def test_overrides_parse_toml_values_and_bare_strings():
                                  "cloth.size=nan", "cloth.resolution=2.5"])
 def test_malformed_overrides_raise_scene_error(bad):
     with pytest.raises(SceneError):
-        sc.apply_overrides(Scene(), [bad])
+        sf.apply_overrides(Scene(), [bad])
 
 
 def test_with_value_leaves_original_untouched():
@@ -78,17 +81,17 @@ def test_with_value_leaves_original_untouched():
 def test_readme_documents_every_key():
     from pathlib import Path
     readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
-    assert sc.reference_markdown() in readme, \
-        "README key reference is stale: regenerate it from cloth_tui.scene.reference_markdown()"
+    assert reference_markdown() in readme, ("README key reference is stale: regenerate it from "
+                                            "cloth_tui.scene_reference.reference_markdown()")
 
 
 def test_overrides_that_constrain_each_other_apply_in_any_order():
     # (no floor: a 15 m wave's trough would hold the edge inside it, which is refused)
-    a = sc.apply_overrides(Scene(), ["scene.floor=false", "behavior.wave=true",
+    a = sf.apply_overrides(Scene(), ["scene.floor=false", "behavior.wave=true",
                                      "behavior.wave_amplitude=15", "behavior.wave_frequency=0.5"])
     assert a.behavior.wave_amplitude == 15.0
     with pytest.raises(SceneError, match="max_speed"):
-        sc.apply_overrides(Scene(), ["behavior.wave=true", "behavior.wave_amplitude=15"])
+        sf.apply_overrides(Scene(), ["behavior.wave=true", "behavior.wave_amplitude=15"])
 
 
 def test_with_objects_replaces_and_validates_the_objects():

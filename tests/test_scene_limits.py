@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cloth_tui import scene as sc
+from cloth_tui import scene_files as sf
 from cloth_tui.safe_text import escape_controls
 
 FLOAT_KEYS = [k for k in sc.all_keys() if sc.key_spec(k).type in ("float", float)]
@@ -42,8 +43,8 @@ huge_integers = st.builds(lambda sign, n, d: sign + d + "0" * n, st.sampled_from
 @settings(max_examples=60, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(FLOAT_KEYS), huge_integers)
 def test_huge_integers_for_float_keys_are_refused(dotted, digits):
-    refused(lambda: sc.loads(toml_doc(dotted, digits)))
-    refused(lambda: sc.apply_overrides(sc.Scene(), [f"{dotted}={digits}"]))
+    refused(lambda: sf.loads(toml_doc(dotted, digits)))
+    refused(lambda: sf.apply_overrides(sc.Scene(), [f"{dotted}={digits}"]))
     if len(digits) < 4000:
         refused(lambda: sc.Scene().with_value(dotted, int(digits)))
 
@@ -54,8 +55,8 @@ def test_huge_integers_as_vector_elements_are_refused(dotted, index, digits):
     vec = ["0.5", "0.5", "0.5"]
     vec[index] = digits
     raw = "[" + ", ".join(vec) + "]"
-    refused(lambda: sc.loads(toml_doc(dotted, raw)))
-    refused(lambda: sc.apply_overrides(sc.Scene(), [f"{dotted}={raw}"]))
+    refused(lambda: sf.loads(toml_doc(dotted, raw)))
+    refused(lambda: sf.apply_overrides(sc.Scene(), [f"{dotted}={raw}"]))
 
 
 @settings(max_examples=20, suppress_health_check=[HealthCheck.too_slow])
@@ -64,9 +65,9 @@ def test_huge_integers_as_vector_elements_are_refused(dotted, index, digits):
 def test_deep_nesting_is_refused_in_one_line(depth, brackets, dotted):
     opening, closing = brackets
     raw = opening * depth + "1" + closing * depth
-    assert "nested too deeply" in refused(lambda: sc.loads(toml_doc(dotted, raw)))
+    assert "nested too deeply" in refused(lambda: sf.loads(toml_doc(dotted, raw)))
     assert "nested too deeply" in refused(
-        lambda: sc.apply_overrides(sc.Scene(), [f"{dotted}={raw}"]))
+        lambda: sf.apply_overrides(sc.Scene(), [f"{dotted}={raw}"]))
 
 
 def nested_list(depth: int):
@@ -124,7 +125,7 @@ def test_tiny_values_below_a_key_minimum_are_refused(dotted, value):
     if spec["lo"] is None or value > spec["lo"] or (value == spec["lo"] and not spec["lo_open"]):
         return
     refused(lambda: sc.Scene().with_value(dotted, value))
-    refused(lambda: sc.apply_overrides(sc.Scene(), [f"{dotted}={value!r}"]))
+    refused(lambda: sf.apply_overrides(sc.Scene(), [f"{dotted}={value!r}"]))
 
 
 # Keys whose tiny positive values used to be accepted and then could not be simulated.
@@ -156,11 +157,11 @@ def test_accepted_tiny_values_simulate(key_value, wind):
 
 
 def test_the_reported_examples():
-    refused(lambda: sc.apply_overrides(sc.Scene(), ["cloth.mass=5e-324"]))
-    refused(lambda: sc.apply_overrides(sc.Scene(), ["behavior.frame_rate=1e-12"]))
-    refused(lambda: sc.apply_overrides(sc.Scene(), ["forces.wind_direction=[0,1e-200,0]"]))
+    refused(lambda: sf.apply_overrides(sc.Scene(), ["cloth.mass=5e-324"]))
+    refused(lambda: sf.apply_overrides(sc.Scene(), ["behavior.frame_rate=1e-12"]))
+    refused(lambda: sf.apply_overrides(sc.Scene(), ["forces.wind_direction=[0,1e-200,0]"]))
     refused(lambda: sc.from_dict({"objects": [{"type": "capsule", "normal": [0, 1e-200, 0]}]}))
-    refused(lambda: sc.loads("[cloth]\nmass = " + "1" * 400))
+    refused(lambda: sf.loads("[cloth]\nmass = " + "1" * 400))
 
 
 # -- control characters in keys, values and file names --------------------------------------
@@ -182,7 +183,7 @@ def test_scene_errors_escape_control_characters(text, where):
            "key": f"[cloth]\n{toml_key(text)} = 1\n",
            "value": f"[cloth]\npinned = {toml_key(text)}\n"}[where]
     try:
-        sc.loads(doc)
+        sf.loads(doc)
     except sc.SceneError as e:
         assert str(e) == escape_controls(str(e))
         return
@@ -196,13 +197,13 @@ def test_a_scene_file_name_with_control_characters_saves_and_loads(tmp_path_fact
     folder = tmp_path_factory.mktemp("names")
     scene = sc.Scene(name=name).with_value("cloth.mass", 0.3)
     try:
-        path = sc.save(scene, folder / f"{name}.toml")
+        path = sf.save(scene, folder / f"{name}.toml")
     except sc.SceneError:  # a name the file system refuses (too long in bytes)
         assert len(f"{name}.toml".encode()) > 255
         return
-    loaded = sc.load(path)
+    loaded = sf.load(path)
     assert loaded == scene and loaded.name == name
-    assert sc.load(sc.save(loaded, folder / "again.toml")) == scene
+    assert sf.load(sf.save(loaded, folder / "again.toml")) == scene
 
 
 # -- combinations that cannot start legally ------------------------------------------------

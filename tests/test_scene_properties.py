@@ -7,6 +7,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cloth_tui import scene as sc
+from cloth_tui import scene_files as sf
 
 
 
@@ -74,14 +75,14 @@ def test_random_values_through_with_value(key, value):
 @settings(max_examples=300)
 @given(st.text(max_size=60))
 def test_random_override_text(text):
-    check(lambda: sc.apply_overrides(sc.Scene(), [text]))
+    check(lambda: sf.apply_overrides(sc.Scene(), [text]))
 
 
 @settings(max_examples=200)
 @given(st.binary(max_size=200))
 def test_binary_garbage_as_toml(data):
     def load():
-        return sc.loads(data.decode("utf-8", errors="replace"))
+        return sf.loads(data.decode("utf-8", errors="replace"))
     check(load)
 
 

@@ -41,7 +41,8 @@ def test_atomic_write_replaces_whole_or_not_at_all(tmp_path):
 
 
 def test_saved_scene_follows_the_umask(tmp_path, umask):
-    from cloth_tui.scene import Scene, load, save
+    from cloth_tui.scene import Scene
+    from cloth_tui.scene_files import load, save
     path = save(Scene(), tmp_path / "s.toml")
     assert mode(path) == 0o666 & ~umask
     assert load(path).cloth == Scene().cloth

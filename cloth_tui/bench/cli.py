@@ -65,7 +65,7 @@ def run_bench(args) -> int:
     sizes = args.sizes or ([26, 64, 128] if quick else [26, 64, 128, 256])
     result: dict = {"machine_start": machine()}
     if args.breakdown:
-        from ..scene import load
+        from ..scene_files import load
         scene = load(args.breakdown)
         result["breakdown"] = bd.breakdown(scene, frames=60 if quick else 240)
     result["quiet"] = _steps(sizes, quick, "quiet")

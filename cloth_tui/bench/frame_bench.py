@@ -16,7 +16,7 @@ PREVIEW_CELLS = (112, 44)
 
 def bench_frames(quick: bool = False) -> list[dict]:
     from ..render.renderer import Renderer
-    from ..scene import load
+    from ..scene_files import load
     from ..tui.preview import SCALE, StyleCache, image_to_strips
 
     cols, rows = PREVIEW_CELLS

@@ -11,7 +11,8 @@ import sys
 import time
 from contextlib import contextmanager
 
-from ..scene import Scene, load
+from ..scene import Scene
+from ..scene_files import load
 from ..sim import pipeline
 from ..sim.model import build_model
 from ..sim.state import ClothState

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..interrupt import Interrupt, Progress
 from ..safe_text import escape_controls
-from ..scene import apply_overrides, load
+from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .frames import BakedFrame, BakeWriter
 from .mesh_sequence import SEQUENCE_SUFFIXES, BakeIOError, MeshSequenceWriter, sequence_path

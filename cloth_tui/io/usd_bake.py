@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import scene as scene_io
+from .. import scene_files as scene_io
 from ..sim.surface import grid_uv, vertex_normals
 from .frames import BakedFrame
 from .mesh_sequence import BakeIOError

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import SceneError, loads
+from ..scene import SceneError
+from ..scene_files import loads
 from ..sim.protocols import ObjectPose
 from ..usage import UsageError
 from .usd_bake import SCENE_KEY, USD_SUFFIXES, missing_usd_message

@@ -16,7 +16,7 @@ from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
 from ..io.usd_bake import USD_SUFFIXES
 from ..safe_text import escape_controls
-from ..scene import apply_overrides, load
+from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .capture import CaptureError, VideoWriter, gif_max_frames, save_png
 from .probe import RendererUnavailable, require_renderer

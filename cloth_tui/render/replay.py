@@ -17,7 +17,7 @@ from ..interrupt import Interrupt, Progress
 from ..io.bake_player import bake_model
 from ..io.usd_read import UsdBake
 from ..safe_text import escape_controls
-from ..scene import apply_overrides, parse_override
+from ..scene_files import apply_overrides, parse_override
 from ..sim.runner import Snapshot
 from ..usage import UsageError
 from .capture import CaptureError, VideoWriter, save_png

@@ -24,7 +24,8 @@ from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
 from ..safe_text import escape_controls
-from ..scene import Scene, SceneError, load
+from ..scene import Scene, SceneError
+from ..scene_files import load
 from ..sim.held_contacts import check_start
 from ..sim.runner import SimulationThread
 from ..sim.threads import toggle_single_thread

@@ -8,7 +8,7 @@ from typing import Any, Callable
 
 from ..render.capture import timestamped
 from ..scene import Scene, SceneError
-from ..scene import save as save_scene
+from ..scene_files import save as save_scene
 from ..sim.runner import SimulationThread
 from .bake_key import BakeKey
 from .messages import Captured

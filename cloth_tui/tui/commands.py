@@ -6,7 +6,7 @@ from functools import partial
 
 from textual.command import DiscoveryHit, Hit, Hits, Provider
 
-from ..scene import builtin_scenes
+from ..resources import builtin_scenes
 
 
 def _first_comment(path) -> str:

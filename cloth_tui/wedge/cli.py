@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
 from ..safe_text import escape_controls
-from ..scene import apply_overrides, load
+from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path
 from .engine import Engine, Failed, require_dask
 from .plan import plan, value_text

@@ -3,7 +3,7 @@
 import pytest
 
 from cloth_tui.bench.breakdown import breakdown
-from cloth_tui.scene import load
+from cloth_tui.scene_files import load
 
 
 def test_the_breakdown_shows_what_the_mesh_collider_costs():

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from cloth_tui.scene import apply_overrides, load
+from cloth_tui.scene_files import apply_overrides, load
 from cloth_tui.sim.runner import Simulation
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.cli import main
-from cloth_tui.scene import apply_overrides, load, loads
+from cloth_tui.scene_files import apply_overrides, load, loads
 
 from .helpers import simulated_frames
 

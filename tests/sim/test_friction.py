@@ -7,7 +7,7 @@ the kernel's static/kinetic rule on single particles there too."""
 import numpy as np
 import pytest
 
-from cloth_tui.scene import load
+from cloth_tui.scene_files import load
 from cloth_tui.sim.runner import Simulation
 from .helpers import run
 

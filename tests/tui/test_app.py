@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from textual.widgets import Collapsible, Input, Select, Switch
 
-from cloth_tui.scene import Scene, all_keys, load
+from cloth_tui.scene import Scene, all_keys
+from cloth_tui.scene_files import load
 from cloth_tui.tui.app import run_app
 from cloth_tui.tui.bindings import BUMP_M
 from cloth_tui.tui.panels import all_panel_keys, widget_id

@@ -5,7 +5,8 @@ import unicodedata
 
 from textual.widgets import Input
 
-from cloth_tui.scene import Scene, load, save
+from cloth_tui.scene import Scene
+from cloth_tui.scene_files import load, save
 from cloth_tui.tui.panels import widget_id
 
 from .conftest import SIZE, make_app, notifications, run, until

@@ -3,7 +3,7 @@ and removed there; a refused edit is told and the field shows the last good valu
 
 from textual.widgets import Button, Collapsible, Input, Select
 
-from cloth_tui.scene import load
+from cloth_tui.scene_files import load
 from cloth_tui.tui.panels import widget_id
 
 from .conftest import SIZE, make_app, notifications, run, sim_scene, until

@@ -8,7 +8,7 @@ import pytest
 
 pytest.importorskip("distributed")
 
-from cloth_tui.scene import load  # noqa: E402
+from cloth_tui.scene_files import load  # noqa: E402
 from cloth_tui.wedge.engine import Engine, Failed  # noqa: E402
 from cloth_tui.wedge.plan import plan  # noqa: E402
 from cloth_tui.wedge.task import run_cell  # noqa: E402

@@ -2,7 +2,7 @@
 
 import pytest
 
-from cloth_tui.scene import load
+from cloth_tui.scene_files import load
 from cloth_tui.usage import UsageError
 from cloth_tui.wedge.plan import MAX_RUNS, Layout, plan
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from cloth_tui.scene import load
+from cloth_tui.scene_files import load
 from cloth_tui.wedge.engine import Failed
 from cloth_tui.wedge.plan import plan
 from cloth_tui.wedge.sheet import EMPTY, VIDEO_BLOCK, clip_frames, layout_sheet, still
