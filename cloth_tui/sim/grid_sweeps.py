@@ -149,6 +149,19 @@ def row_length(c, n):
 
 
 @kernel(inline="always")
+def coincident_direction(a, b):
+    """The separation (length COINCIDENT) given to constraint a–b when its ends coincide and
+    have no direction of their own: any fixed, pair-dependent direction will do, so a crushed
+    sheet unfolds instead of staying collapsed. One rule for the plain loop (xpbd.py) and the
+    sweeps, so both unfold a sheet the same way."""
+    dx = math.sin(1.3 * a + 7.1 * b)
+    dy = math.cos(3.7 * a - 1.9 * b)
+    dz = math.sin(2.3 * a + 0.7 * b + 1.0)
+    scale = COINCIDENT / math.sqrt(dx * dx + dy * dy + dz * dz)
+    return dx * scale, dy * scale, dz * scale
+
+
+@kernel(inline="always")
 def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, alive, lam, e, alpha_t, a,
           b):
     """One projection (xpbd.py's update) between element ja of one lane and jb of another:
@@ -191,13 +204,7 @@ def _crushed_pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, alive, l
     dy = yb[jb] - ya[ja]
     dz = zb[jb] - za[ja]
     if alive[e] and wa + wb > 0.0 and dx * dx + dy * dy + dz * dz < COINCIDENT * COINCIDENT:
-        dx = math.sin(1.3 * a + 7.1 * b)
-        dy = math.cos(3.7 * a - 1.9 * b)
-        dz = math.sin(2.3 * a + 0.7 * b + 1.0)
-        scale = COINCIDENT / math.sqrt(dx * dx + dy * dy + dz * dz)
-        dx *= scale
-        dy *= scale
-        dz *= scale
+        dx, dy, dz = coincident_direction(a, b)
         d = COINCIDENT
         s = (rest[e] - d - alpha_t * lam[e]) / (d * (wa + wb + alpha_t))
         xa[ja] -= wa * s * dx

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import (COINCIDENT, color_starts, lane_grid, lane_masses, sweep_grid_colors,
-                          sweep_grid_colors_parallel)
+from .grid_sweeps import (COINCIDENT, coincident_direction, color_starts, lane_grid,
+                          lane_masses, sweep_grid_colors, sweep_grid_colors_parallel)
 from .jit import kernel
 from .threads import KernelChoice
 
@@ -39,17 +39,8 @@ def _project_one(x, inv_mass, a, b, rest, lam, alpha_t):
     dy = x[b, 1] - x[a, 1]
     dz = x[b, 2] - x[a, 2]
     d2 = dx * dx + dy * dy + dz * dz
-    if d2 < COINCIDENT * COINCIDENT:
-        # Coincident ends have no direction to separate along: pick one from the indices
-        # (any fixed, pair-dependent direction will do), so a crushed sheet unfolds instead
-        # of staying collapsed.
-        dx = math.sin(1.3 * a + 7.1 * b)
-        dy = math.cos(3.7 * a - 1.9 * b)
-        dz = math.sin(2.3 * a + 0.7 * b + 1.0)
-        scale = COINCIDENT / math.sqrt(dx * dx + dy * dy + dz * dz)
-        dx *= scale
-        dy *= scale
-        dz *= scale
+    if d2 < COINCIDENT * COINCIDENT:  # no direction of their own: grid_sweeps' fixed one
+        dx, dy, dz = coincident_direction(a, b)
         d2 = COINCIDENT * COINCIDENT
     d = math.sqrt(d2)
     s = (rest - d - alpha_t * lam) / (d * (wa + wb + alpha_t))  # Δλ/d: one division
