@@ -5,6 +5,7 @@ publishing immutable snapshots."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import threading
 import time
 from collections import deque
@@ -30,6 +31,10 @@ MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fracti
              {("behavior", k) for k in ("structural", "shear", "bending", "seed",
                                         "tethers", "wave")}
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
+# ... unless the same frame at twice the substeps ends this close to the same stretch: an
+# unstable step's stretch collapses when h halves, a load's (a heavy sheet, pins, a wave, a
+# moving object) stays.
+STRETCH_CONVERGED = 0.1
 # A force-based integrator going unstable pumps energy in. In a scene with no energy source
 # (wind, fields, rain, a wave, moving objects) a frame may not gain more than this share of
 # the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping, contacts and
@@ -96,6 +101,7 @@ class Simulation:
             self.model = new_model
             self.state = ClothState.from_model(self.model)
             self._good = self.state.copy()  # the state before the current frame
+            self._trial = self.state.copy()  # scratch for the stretch-convergence check
             self.frames = 0
             self.wall_s = 0.0
             self.last_step_s = 0.0
@@ -143,7 +149,10 @@ class Simulation:
         e0 = self._energy_scale() if self._watch_energy() else None
         self.step.frame(self.state)
         while not self.halted:
-            if not self._healthy(e0):
+            problem = self._problem(e0)
+            if problem == "overstretched" and self._stretch_converges():
+                problem = None
+            if problem:
                 self._recover()
                 continue
             redo = self._redo_for_accuracy()
@@ -189,28 +198,47 @@ class Simulation:
     def _finite(self) -> bool:
         return all_finite(self.state.x, self.state.v)
 
-    def _healthy(self, e0: tuple[float, float] | None) -> bool:
-        """Finite, and (springs only) no energy gained from nowhere and, for explicit
-        integrators, no spring at over twice its rest length. Every solver clamps speeds to
-        max_speed, so speed shows nothing. A position-based step cannot run away while finite
-        (its prediction is clamped, projection and contacts only move particles towards
-        satisfied constraints and surfaces), and may legitimately stretch a lot at few
-        iterations; a force-based integrator going unstable shows as stretch or as energy."""
+    def _problem(self, e0: tuple[float, float] | None) -> str | None:
+        """What is wrong with the frame just run, or None: not finite, or (springs only)
+        energy gained from nowhere or, for explicit integrators, a spring at over twice its
+        rest length. Every solver clamps speeds to max_speed, so speed shows nothing. A
+        position-based step cannot run away while finite (its prediction is clamped,
+        projection and contacts only move particles towards satisfied constraints and
+        surfaces), and may legitimately stretch a lot at few iterations; a force-based
+        integrator going unstable shows as energy or as stretch."""
         if not self._finite():
-            return False
+            return "not finite"
         b = self.scene.behavior
         if b.solver != "springs":
-            return True
-        # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
-        # An explicit integrator going unstable shows first as stretch (its speeds are clamped).
-        if integrator_for(b) != "implicit_euler" and \
-                stretch(self.model, self.state.x, self.state.alive)[0] > SPRING_DIVERGED:
-            return False
+            return None
         if e0 is not None:
             e_start, scale = e0
             if self._energy() - e_start > ENERGY_GAIN_DIVERGED * scale:
-                return False
-        return True
+                return "energy gained"
+        # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
+        # An explicit integrator going unstable shows first as stretch (its speeds are clamped).
+        if integrator_for(b) != "implicit_euler" and self._max_stretch() > SPRING_DIVERGED:
+            return "overstretched"
+        return None
+
+    def _max_stretch(self) -> float:
+        return stretch(self.model, self.state.x, self.state.alive)[0]
+
+    def _stretch_converges(self) -> bool:
+        """Run the frame again from its start at twice the substeps: the stretch the scene's
+        loads impose stays (within STRETCH_CONVERGED), an unstable step's collapses. The
+        frame's own result is kept either way; the check's run is a trial."""
+        s1 = self._max_stretch()
+        self._trial.restore(self.state)
+        self.state.restore(self._good)
+        self._guard_level += 1
+        self._build_step()
+        self.step.frame(self.state)
+        s2 = self._max_stretch() if self._finite() else math.inf
+        self._guard_level -= 1
+        self._build_step()
+        self.state.restore(self._trial)
+        return abs(s2 - s1) <= STRETCH_CONVERGED * s1
 
     def _recover(self) -> None:
         self.recoveries += 1

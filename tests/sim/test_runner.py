@@ -239,6 +239,39 @@ def test_a_soft_implicit_sheet_stretches_without_a_halt():
     assert s["max_stretch"] > 1.0  # the case the old stretch rule mistook for divergence
 
 
+@pytest.mark.parametrize("integrator", ["rk4", "midpoint"])
+def test_a_load_that_stretches_explicit_springs_past_twice_their_length_is_not_a_halt(integrator):
+    # A 400-tonne sheet hanging by one edge (fuzz scene 14, seed 1): its weight stretches
+    # the springs far past twice their rest length at any step. The same frame at twice the
+    # substeps ends at the same stretch, so that is the load, not an unstable step.
+    from cloth_tui.scene import Scene
+
+    sim = Simulation(Scene().with_values({
+        "cloth.mass": 4e5, "cloth.pinned": "one_edge", "behavior.solver": "springs",
+        "behavior.integrator": integrator}))
+    for _ in range(60):
+        sim.advance_frame()
+    s = sim.stats()
+    assert s["halted"] is None and s["finite"]
+    assert s["max_stretch"] > runner.SPRING_DIVERGED  # what the old rule called divergence
+
+
+def test_an_unstable_explicit_step_is_still_caught_with_an_energy_source_on():
+    # With a field on, the energy check is off and overstretch is the only sign: a stiff
+    # sheet at one substep under explicit Euler blows up; halving h calms it, so its stretch
+    # does not converge and the guard steps in (more substeps, or a halt with a reason).
+    from cloth_tui.scene import Scene
+
+    sim = Simulation(Scene().with_values({
+        "behavior.solver": "springs", "behavior.integrator": "explicit_euler",
+        "behavior.stiffness": 1e6, "behavior.substeps": 1, "forces.custom": "vortex"}))
+    for _ in range(20):
+        sim.advance_frame()
+    s = sim.stats()
+    assert s["recoveries"] > 0 or s["halted"]
+    assert s["finite"] and (s["halted"] or s["max_stretch"] < runner.SPRING_DIVERGED)
+
+
 def test_halt_advice_names_only_what_fits_the_solver():
     from cloth_tui.scene import Behavior
     from cloth_tui.sim.runner import halt_advice
