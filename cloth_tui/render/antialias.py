@@ -58,7 +58,8 @@ def blend_across_edges(src, luma, out):
 
 def antialias(image: np.ndarray) -> np.ndarray:
     """A new (H, W, 3) uint8 picture with jagged edges softened."""
-    src = np.ascontiguousarray(image, dtype=np.uint8)
-    out = np.empty_like(src)
+    # any strides (a bottom-up read-back viewed top-down is read in place, not copied)
+    src = np.asarray(image, dtype=np.uint8)
+    out = np.empty(src.shape, np.uint8)
     blend_across_edges(src, np.empty(src.shape[:2], np.float32), out)
     return out

@@ -56,6 +56,7 @@ class Renderer:
         # FXAA pass 12 ms at 640x384: anti-aliasing is a compiled pass over the picture read
         # back instead (antialias.py).
         self.plotter.ren_win.SetMultiSamples(0)
+        self._pixels = pv.convert_array(np.zeros(0, np.uint8))  # read_pixels' buffer, kept
         # Both sides of the sheet lit, each by the lights on its side (VTK flips a back
         # face's normal); the underside also has a darker shade of the colour (_style_cloth).
         self.plotter.renderer.SetTwoSidedLighting(True)
@@ -299,13 +300,15 @@ class Renderer:
         distance = self.view_distance()
         offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
                                       math.cos(el) * math.cos(az)])
+        # VTK's own setters: PyVista's position setter also resets the clipping range from
+        # every actor's bounds (~1 ms a frame), which the line below sets anyway.
         cam = self.plotter.camera
-        cam.focal_point = tuple(self.target)
-        cam.position = tuple(self.target + offset)
-        cam.up = (0.0, 1.0, 0.0)
-        cam.view_angle = VIEW_ANGLE
+        cam.SetFocalPoint(*self.target)
+        cam.SetPosition(*(self.target + offset))
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetViewAngle(VIEW_ANGLE)
         far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
-        cam.clipping_range = (max(0.01, 0.02 * distance), far)
+        cam.SetClippingRange(max(0.01, 0.02 * distance), far)
         self.ground.shade(self.elevation)
 
     # -- drawing --------------------------------------------------------------------------
@@ -341,9 +344,19 @@ class Renderer:
         return image
 
     def _grab(self) -> np.ndarray:
-        self.plotter.render()
-        image = self.plotter.screenshot(return_img=True)
-        return antialias(image[..., :3])
+        # The window itself, not plotter.render(): that one skips the first frame until a
+        # screenshot has run PyVista's first-render camera reset, which our camera never needs.
+        self.plotter.ren_win.Render()
+        return antialias(self.read_pixels())
+
+    def read_pixels(self) -> np.ndarray:
+        """The drawn picture, unsmoothed, as an (H, W, 3) uint8 view of a buffer reused every
+        frame (valid until the next render); rows from the top. Read from the front buffer,
+        as plotter.screenshot does, but into one kept vtkUnsignedCharArray: the screenshot
+        built an image filter and copied and flipped the picture twice per frame."""
+        w, h = self.size
+        self.plotter.ren_win.GetPixelData(0, 0, w - 1, h - 1, 1, self._pixels, 0)
+        return self.pv.convert_array(self._pixels).reshape(h, w, 3)[::-1]
 
     def pick(self, u: float, v: float) -> int | None:
         """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;
