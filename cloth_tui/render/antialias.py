@@ -21,13 +21,12 @@ SUBPIXEL = 0.75     # FXAA's default sub-pixel strength: a lone pixel takes 3/4 
 
 @kernel()
 def blend_across_edges(src, luma, out):
-    """`out` = `src` (both (H, W, 3) uint8) with edge pixels blended; borders copied.
-    `luma` (H, W) float32 is scratch space."""
+    """Blend `out`'s edge pixels, `out` holding a copy of `src` (both (H, W, 3) uint8) on
+    entry (NumPy copies it 20× faster than a loop here). `luma` (H, W) float32 is scratch."""
     h, w = src.shape[0], src.shape[1]
     for y in range(h):
         for x in range(w):
             luma[y, x] = 0.299 * src[y, x, 0] + 0.587 * src[y, x, 1] + 0.114 * src[y, x, 2]
-    out[:] = src
     for y in range(1, h - 1):
         for x in range(1, w - 1):
             m = luma[y, x]
@@ -60,6 +59,6 @@ def antialias(image: np.ndarray) -> np.ndarray:
     """A new (H, W, 3) uint8 picture with jagged edges softened."""
     # any strides (a bottom-up read-back viewed top-down is read in place, not copied)
     src = np.asarray(image, dtype=np.uint8)
-    out = np.empty(src.shape, np.uint8)
+    out = np.array(src, order="C")
     blend_across_edges(src, np.empty(src.shape[:2], np.float32), out)
     return out
