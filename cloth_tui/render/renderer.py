@@ -18,7 +18,7 @@ from ..sim.surface import grid_cell_triangles, thinned_rows
 from .antialias import antialias
 from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
-                       family_colors, grid_uv, hex_rgb,
+                       drawable, family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals,
                        view_plane_delta)
 from .probe import require_renderer
@@ -261,7 +261,7 @@ class Renderer:
         shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
         x = np.asarray(snapshot.positions, dtype=np.float64)
         n = snapshot.model.num_particles
-        if x.shape == (n, 3) and np.isfinite(x).all() and np.abs(x).max(initial=0) < 1e6:
+        if x.shape == (n, 3) and drawable(x, 1e6):
             return x
         if self._positions is not None and len(self._positions) == n:
             return self._positions
@@ -340,7 +340,9 @@ class Renderer:
         w, h = self.size
         matrix = self.plotter.camera.GetCompositeProjectionTransformMatrix(w / h, -1, 1)
         m = np.array([[matrix.GetElement(i, j) for j in range(4)] for i in range(4)])
-        self._pick_state = (m, positions.copy())  # one assignment: readers see old or new
+        # one assignment: readers see old or new. Not a copy: a snapshot's positions are its
+        # own, never changed after (runner.Snapshot), and so are the rest positions.
+        self._pick_state = (m, positions)
         return image
 
     def _grab(self) -> np.ndarray:

@@ -49,3 +49,38 @@ def test_antialias_reads_a_flipped_view_as_its_copy():
     flipped = picture[::-1]
     assert np.array_equal(antialias(flipped), antialias(np.ascontiguousarray(flipped)))
     assert np.array_equal(antialias(flipped)[0, 0], flipped[0, 0])  # borders copied
+
+
+def test_a_frame_allocates_no_array_of_the_sheets_size(renderer, monkeypatch):
+    """Points, normals, the finite check and the picking state: nothing per particle is
+    allocated (the snapshot's own positions serve picking; they never change after)."""
+    import tracemalloc
+
+    import cloth_tui.render.renderer as renderer_module
+
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    first = draped(scene)
+    renderer.resize(16, 12)
+    renderer.update_scene(scene)
+    renderer.reset_camera()
+    renderer.render(first)
+    second = draped(scene, sag=0.1, model=first.model)
+    tracemalloc.start()
+    renderer.render(second)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 0.5 * second.positions.nbytes  # the shadow's ~0.1 MB is fixed, not per particle
+    k = 128 * 64 + 64  # the middle particle, picked where the last frame drew it
+    assert renderer.screen_delta_to_world(k, 0.0, 0.0) is not None
+
+
+def test_drawable_refuses_nan_inf_and_far_points():
+    from cloth_tui.render.geometry import drawable
+
+    x = np.zeros((5, 3))
+    assert drawable(x, 1e6)
+    for bad in (np.nan, np.inf, -np.inf, 2e6):
+        y = x.copy()
+        y[3, 1] = bad
+        assert not drawable(y, 1e6)
