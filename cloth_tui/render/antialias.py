@@ -5,7 +5,7 @@ sheet's outline and the poles.
 
 Why not the GL's: measured at 640×384 in Mesa's software GL (docs/rendering.md), VTK's FXAA
 pass cost about 12 ms per frame and 4× MSAA about 45 ms, against a frame budget of ~8 ms;
-this pass costs about 2 ms and leaves flat areas untouched. It is FXAA's sub-pixel
+this pass costs about 1 ms and leaves flat areas untouched. It is FXAA's sub-pixel
 part only (no search along long edges), which is what the half-block preview needs most."""
 
 from __future__ import annotations
