@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sim.jit import kernel
 from ..sim.surface import grid_uv, vertex_normals  # noqa: F401  (the renderer's too)
 
 LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0])  # original's
@@ -108,3 +109,14 @@ def matrix_aspect(matrix: np.ndarray) -> float:
     sx = np.linalg.norm(matrix[0, :3])
     sy = np.linalg.norm(matrix[1, :3])
     return float(sy / sx) if sx > 0 else 1.0
+
+
+@kernel(fastmath=False)
+def drawable(x, bound: float) -> bool:
+    """Every coordinate finite and within ±bound, in one pass without temporaries (NumPy's
+    isfinite and abs made two arrays of the sheet's size each frame)."""
+    for i in range(x.shape[0]):
+        for k in range(x.shape[1]):
+            if not abs(x[i, k]) < bound:  # also False for NaN
+                return False
+    return True

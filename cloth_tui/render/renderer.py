@@ -18,7 +18,7 @@ from ..sim.surface import grid_cell_triangles, thinned_rows
 from .antialias import antialias
 from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
-                       family_colors, grid_uv, hex_rgb,
+                       drawable, family_colors, grid_uv, hex_rgb,
                        pick_nearest, triangle_edges, vertex_normals,
                        view_plane_delta)
 from .probe import require_renderer
@@ -56,6 +56,7 @@ class Renderer:
         # FXAA pass 12 ms at 640x384: anti-aliasing is a compiled pass over the picture read
         # back instead (antialias.py).
         self.plotter.ren_win.SetMultiSamples(0)
+        self._pixels = pv.convert_array(np.zeros(0, np.uint8))  # read_pixels' buffer, kept
         # Both sides of the sheet lit, each by the lights on its side (VTK flips a back
         # face's normal); the underside also has a darker shade of the colour (_style_cloth).
         self.plotter.renderer.SetTwoSidedLighting(True)
@@ -260,7 +261,7 @@ class Renderer:
         shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
         x = np.asarray(snapshot.positions, dtype=np.float64)
         n = snapshot.model.num_particles
-        if x.shape == (n, 3) and np.isfinite(x).all() and np.abs(x).max(initial=0) < 1e6:
+        if x.shape == (n, 3) and drawable(x, 1e6):
             return x
         if self._positions is not None and len(self._positions) == n:
             return self._positions
@@ -299,13 +300,15 @@ class Renderer:
         distance = self.view_distance()
         offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
                                       math.cos(el) * math.cos(az)])
+        # VTK's own setters: PyVista's position setter also resets the clipping range from
+        # every actor's bounds (~1 ms a frame), which the line below sets anyway.
         cam = self.plotter.camera
-        cam.focal_point = tuple(self.target)
-        cam.position = tuple(self.target + offset)
-        cam.up = (0.0, 1.0, 0.0)
-        cam.view_angle = VIEW_ANGLE
+        cam.SetFocalPoint(*self.target)
+        cam.SetPosition(*(self.target + offset))
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetViewAngle(VIEW_ANGLE)
         far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
-        cam.clipping_range = (max(0.01, 0.02 * distance), far)
+        cam.SetClippingRange(max(0.01, 0.02 * distance), far)
         self.ground.shade(self.elevation)
 
     # -- drawing --------------------------------------------------------------------------
@@ -337,13 +340,25 @@ class Renderer:
         w, h = self.size
         matrix = self.plotter.camera.GetCompositeProjectionTransformMatrix(w / h, -1, 1)
         m = np.array([[matrix.GetElement(i, j) for j in range(4)] for i in range(4)])
-        self._pick_state = (m, positions.copy())  # one assignment: readers see old or new
+        # one assignment: readers see old or new. Not a copy: a snapshot's positions are its
+        # own, never changed after (runner.Snapshot), and so are the rest positions.
+        self._pick_state = (m, positions)
         return image
 
     def _grab(self) -> np.ndarray:
-        self.plotter.render()
-        image = self.plotter.screenshot(return_img=True)
-        return antialias(image[..., :3])
+        # The window itself, not plotter.render(): that one skips the first frame until a
+        # screenshot has run PyVista's first-render camera reset, which our camera never needs.
+        self.plotter.ren_win.Render()
+        return antialias(self.read_pixels())
+
+    def read_pixels(self) -> np.ndarray:
+        """The drawn picture, unsmoothed, as an (H, W, 3) uint8 view of a buffer reused every
+        frame (valid until the next render); rows from the top. Read from the front buffer,
+        as plotter.screenshot does, but into one kept vtkUnsignedCharArray: the screenshot
+        built an image filter and copied and flipped the picture twice per frame."""
+        w, h = self.size
+        self.plotter.ren_win.GetPixelData(0, 0, w - 1, h - 1, 1, self._pixels, 0)
+        return self.pv.convert_array(self._pixels).reshape(h, w, 3)[::-1]
 
     def pick(self, u: float, v: float) -> int | None:
         """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;
