@@ -12,6 +12,7 @@ import asyncio
 import os
 import signal
 import sys
+import threading
 import time
 from collections import deque
 from pathlib import Path
@@ -48,6 +49,10 @@ RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
 # Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
 ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+# After such a signal the captures are saved; if Textual's own shutdown is still stuck this
+# long later (a terminal that stopped reading, e.g. a killed window's, leaves its output queue
+# full forever), the process leaves without it.
+EXIT_GRACE_S = 5.0
 
 
 def default_renderer_factory(**kwargs):
@@ -159,6 +164,8 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
 
     def _end_by_signal(self, sig: int) -> None:
         self.shutdown()
+        threading.Thread(target=_leave_after, args=(EXIT_GRACE_S, 128 + int(sig)),
+                         name="exit-watchdog", daemon=True).start()
         self.exit(return_code=128 + int(sig))
 
     def _start_sim(self, paused: bool) -> None:
@@ -363,6 +370,11 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
 
     def on_unmount(self) -> None:
         self.shutdown()
+
+
+def _leave_after(seconds: float, code: int) -> None:
+    time.sleep(seconds)
+    os._exit(code)  # only reached if the normal exit hung: see EXIT_GRACE_S
 
 
 def run_app(scene: Scene, captures_dir: Path, *, app_class: type[ClothApp] = ClothApp,

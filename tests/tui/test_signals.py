@@ -76,3 +76,50 @@ def test_signal_while_recording_finishes_video_and_restores_terminal(tmp_path, s
     assert b"\x1b[?1049l" in tail, "still in the alternate screen"
     assert b"\x1b[?1000l" in tail, "mouse tracking left on"
     assert b"\x1b[?25h" in tail, "cursor left hidden"
+
+
+def test_sighup_from_a_terminal_that_stopped_reading_still_ends_the_app(tmp_path):
+    """A killed terminal window: it stops reading (the pseudo-terminal's buffer fills and
+    Textual's output queue with it), then SIGHUP comes and the terminal is gone. Textual's own
+    shutdown then waits on that queue forever; the app must still leave (exit 128 + SIGHUP)
+    once its captures are saved, not stay behind as an orphan process."""
+    try:
+        require_renderer()
+    except RendererUnavailable as e:
+        pytest.skip(f"renderer unavailable: {e}")
+    from cloth_tui.tui.app import EXIT_GRACE_S
+
+    caps = tmp_path / "caps"
+    master, slave = pty.openpty()
+    env = dict(os.environ, TERM="xterm-256color", COLUMNS="160", LINES="48")
+    child = subprocess.Popen([sys.executable, "-c", SCRIPT, str(caps)], stdin=slave,
+                             stdout=slave, stderr=slave, env=env, cwd=tmp_path,
+                             start_new_session=True)
+    os.close(slave)
+    reading = threading.Event()
+    reading.set()
+
+    def read() -> None:
+        while reading.is_set():
+            try:
+                if not os.read(master, 65536):
+                    return
+            except OSError:
+                return
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        _wait(lambda: (caps / "preview.png").exists(), 90, "the first picture")
+        reading.clear()  # the window freezes: nobody reads the terminal any more
+        time.sleep(5)
+        child.send_signal(signal.SIGHUP)
+        os.close(master)  # and is gone
+        master = None
+        assert child.wait(timeout=EXIT_GRACE_S + 20) == 128 + signal.SIGHUP
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+        if master is not None:
+            os.close(master)
