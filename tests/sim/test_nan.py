@@ -6,7 +6,6 @@ clamped into a plausible number. The kernels now use FASTMATH (jit.py), which ke
 
 import math
 
-import numpy as np
 import pytest
 from numba import njit
 

@@ -1,7 +1,7 @@
 import numpy as np
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import solvers, stages, xpbd
+from cloth_tui.sim import solvers, stages
 from cloth_tui.sim.model import build_model
 
 
