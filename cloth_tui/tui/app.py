@@ -28,7 +28,7 @@ from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
 from ..sim.held_contacts import check_start
-from ..sim.runner import SimulationThread
+from ..sim.sim_thread import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS

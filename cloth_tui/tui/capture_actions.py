@@ -9,7 +9,7 @@ from typing import Any, Callable
 from ..render.capture import timestamped
 from ..scene import Scene, SceneError
 from ..scene_files import save as save_scene
-from ..sim.runner import SimulationThread
+from ..sim.sim_thread import SimulationThread
 from .bake_key import BakeKey
 from .messages import Captured
 

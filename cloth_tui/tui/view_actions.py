@@ -9,7 +9,7 @@ from collections import deque
 from typing import Any, Callable
 
 from ..scene import Scene
-from ..sim.runner import SimulationThread
+from ..sim.sim_thread import SimulationThread
 from .bindings import BUMP_M, ORBIT_DEG, VIEW_SPAN, ZOOM_STEP
 from .preview import Preview
 

@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from cloth_tui.sim import runner
-from cloth_tui.sim.runner import Simulation, SimulationThread
+from cloth_tui.sim import sim_thread
+from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.sim_thread import SimulationThread
 
 from .helpers import run, scene
 
@@ -173,7 +175,7 @@ def test_thread_computes_full_statistics_only_every_interval(monkeypatch):
         thread._publish(full=False)
         clock[0] += 1.0 / 60
     assert len(published) == 60
-    assert len(calls) == pytest.approx(1.0 / runner.STATS_INTERVAL, abs=1)
+    assert len(calls) == pytest.approx(1.0 / sim_thread.STATS_INTERVAL, abs=1)
     # every snapshot carries this frame's own cheap numbers...
     assert [s.stats["frames"] for s in published] == list(range(1, 61))
     assert [s.frame for s in published] == list(range(1, 61))

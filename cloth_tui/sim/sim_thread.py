@@ -1,0 +1,118 @@
+"""The simulation's own thread: runs a `Simulation` in real time and publishes `Snapshot`s;
+other threads talk to it only through `submit` and `latest`."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+from typing import Callable
+
+from ..scene import Scene
+from .runner import Simulation, Snapshot
+
+MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
+PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
+STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
+
+
+class SimulationThread:
+    """Runs a Simulation in real time (one frame per 1/frame_rate wall seconds, or as fast as
+    it can) on a daemon thread. Other threads talk to it only through `submit` and read
+    `latest`; `on_snapshot` is called from the simulation thread after every frame it
+    publishes (catching up, several frames are published as one). `on_frame`, if set, is
+    called there after every frame simulated (a recorder that needs them all); it may read
+    the Simulation, not keep it."""
+
+    def __init__(self, scene: Scene, on_snapshot: Callable[[Snapshot], None] | None = None):
+        self.sim = Simulation(scene)
+        self.on_snapshot = on_snapshot
+        self.on_frame: Callable[[Simulation], None] | None = None
+        self.paused = False
+        self._commands: deque[Callable[[Simulation], None]] = deque()
+        self._stop = threading.Event()
+        self._wake = threading.Event()
+        self._lock = threading.Lock()
+        self._latest = self.sim.snapshot()
+        self._stats: dict | None = None  # the last full statistics published, and when
+        self._stats_t = 0.0
+        self._thread = threading.Thread(target=self._run, name="cloth-sim", daemon=True)
+        self.error: BaseException | None = None
+
+    def start(self) -> "SimulationThread":
+        self._thread.start()
+        return self
+
+    def stop(self, timeout: float = 1.0) -> None:
+        self._stop.set()
+        self._wake.set()
+        self._thread.join(timeout)
+
+    def pause(self, paused: bool) -> None:
+        """Pause or resume; the thread publishes a snapshot at once either way."""
+        self.paused = paused
+        self.submit(lambda sim: None)
+
+    def submit(self, command: Callable[[Simulation], None]) -> None:
+        """Run `command(sim)` on the simulation thread between frames."""
+        self._commands.append(command)
+        self._wake.set()
+
+    @property
+    def latest(self) -> Snapshot:
+        with self._lock:
+            return self._latest
+
+    def _publish(self, full: bool) -> None:
+        """Positions every frame; the full statistics (per-edge stretch, energy: a pass over
+        every constraint) only every STATS_INTERVAL s, the rate the status line shows them,
+        or when a command changed the run. Between, the last full set is carried with this
+        frame's cheap numbers."""
+        now = time.perf_counter()
+        if full or self._stats is None or now - self._stats_t >= STATS_INTERVAL:
+            snap = self.sim.snapshot()
+            self._stats, self._stats_t = snap.stats, now
+        else:
+            snap = self.sim.snapshot(self._stats)
+        with self._lock:
+            self._latest = snap
+        if self.on_snapshot is not None:
+            self.on_snapshot(snap)
+
+    def _run(self) -> None:
+        """Frames are due every 1/frame_rate s of wall time. A late thread (the GIL held by the
+        renderer or the UI, a slow frame) catches up with up to MAX_CATCH_UP frames at once,
+        so the simulation keeps real time; further behind than that, it drops the backlog
+        rather than run ever faster."""
+        next_t = time.perf_counter()  # when the next frame is due
+        try:
+            while not self._stop.is_set():
+                changed = commanded = False
+                while self._commands:
+                    self._commands.popleft()(self.sim)
+                    changed = commanded = True
+                now = time.perf_counter()
+                if self.paused:
+                    next_t = now
+                else:
+                    period = 1.0 / self.sim.scene.behavior.frame_rate
+                    for _ in range(MAX_CATCH_UP):
+                        if now < next_t:
+                            break
+                        self.sim.advance_frame()
+                        if self.on_frame is not None:
+                            self.on_frame(self.sim)
+                        next_t += period
+                        changed = True
+                    if now >= next_t:
+                        next_t = now + period
+                if changed:
+                    self._publish(full=commanded)
+                wait = next_t - time.perf_counter() if not self.paused else PAUSED_POLL_S
+                if wait > 0:
+                    self._wake.wait(wait)
+                    self._wake.clear()
+        except BaseException as e:  # reported to the UI, never lost silently
+            self.error = e
+            if self.on_snapshot is not None:
+                self.on_snapshot(None)
