@@ -1,6 +1,8 @@
 """The runner: accuracy the user sets, divergence the guard sees, counters that belong to the
 run, energy that means something, and statistics at the rate they are shown."""
 
+import time
+
 import numpy as np
 import pytest
 
@@ -188,9 +190,9 @@ def test_thread_computes_full_statistics_only_every_interval(monkeypatch):
     assert published[-1].stats["frames"] == 0 and len(calls) == len(set(energies)) + 1
 
 
-def test_on_frame_sees_every_frame_also_those_published_as_one(monkeypatch):
-    """A thread behind time catches up several frames and publishes the last; a recorder
-    (on_frame) still gets each. The clock jumps 5 frames at every look, so it is always late."""
+def test_on_frame_sees_every_frame_and_slow_frames_are_each_published(monkeypatch):
+    """A thread behind time catches up several frames; a recorder (on_frame) gets each. The
+    clock jumps 5 frames at every look, so the thread is always late and every frame slow."""
     import threading
 
     clock = [100.0]
@@ -212,7 +214,34 @@ def test_on_frame_sees_every_frame_also_those_published_as_one(monkeypatch):
     assert enough.wait(30)
     thread.stop()
     assert seen[:30] == list(range(1, 31))
-    assert len(published) < len(seen)  # some frames were published as one
+    # every look at this clock takes 83 ms, so each frame is slow: each is published as it
+    # is done (a sheet too large for real time is shown at its own rate, not every 6th frame)
+    assert published[:29] == list(range(1, 30))
+
+
+def test_quick_catch_up_frames_are_published_as_one(monkeypatch):
+    """The clock jumps 5.5 frames once; the frames themselves take no time on it: the thread
+    runs the five it owes back to back and publishes only the last."""
+    import threading
+
+    clock = [100.0]
+    monkeypatch.setattr(runner.time, "perf_counter", lambda: clock[0])
+    thread = SimulationThread(scene(cloth__resolution=6))
+    seen, published, first = [], [], threading.Event()
+    thread.on_frame = lambda sim: seen.append(sim.frames)
+    thread.on_snapshot = lambda snap: published.append(snap.frame) or first.set()
+    thread.start()
+    try:
+        assert first.wait(30)
+        clock[0] += 5.5 / 60
+        deadline = time.monotonic() + 30
+        while len(seen) < 6 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        time.sleep(0.1)
+    finally:
+        thread.stop()
+    assert seen == [1, 2, 3, 4, 5, 6]
+    assert published == [1, 6]
 
 
 def test_simulate_summary_is_exact():
