@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..sim.jit import kernel
-from ..sim.surface import grid_uv, vertex_normals  # noqa: F401  (the renderer's too)
 
 LIGHT_DIR = np.array([50.0, 200.0, 100.0]) / np.linalg.norm([50.0, 200.0, 100.0])  # original's
 

@@ -14,12 +14,11 @@ import math
 
 import numpy as np
 
-from ..sim.surface import grid_cell_triangles, thinned_rows
+from ..sim.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
 from .antialias import antialias
 from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
-                       drawable, family_colors, grid_uv, hex_rgb,
-                       pick_nearest, triangle_edges, vertex_normals,
+                       drawable, family_colors, hex_rgb, pick_nearest, triangle_edges,
                        view_plane_delta)
 from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles

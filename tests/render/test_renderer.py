@@ -2,7 +2,8 @@ import math
 
 import numpy as np
 
-from cloth_tui.render.geometry import hex_rgb, vertex_normals
+from cloth_tui.render.geometry import hex_rgb
+from cloth_tui.sim.surface import vertex_normals
 
 from .helpers import SPHERE, draped, red_pixels, scene_with, with_positions
 
