@@ -1,24 +1,29 @@
-"""Colour sweeps over the regular grid: the XPBD projection of xpbd.py without index gathers.
+"""Colour sweeps over the regular grid: xpbd.py's projection as long vector loops.
 
 Every constraint of the sheet joins grid particle (i, j) to (i + di, j + dj) for one of six
-offsets, and model.py's 12 colours split each offset by the parity of a row or column.
-Positions are copied once per call into a structure-of-arrays grid P[3, n, 4·⌈n/4⌉] (and
-back at the end) whose rows hold their columns in four lanes by j mod 4: column j sits at
-(j mod 4)·⌈n/4⌉ + j div 4. Every pair of a colour's row then joins element m of one lane to
-element m (or m ± 1) of another, even along a row, where the plain layout's stride-2 pairs did
-not vectorise (measured 150 against 450 M projections/s); the RUNS of a row that continue one
-another in memory are swept as one loop. Inside a colour, build_model keeps the constraints in
-the order the sweeps visit them (`sweep_order`: by row, then run, then along the run), so rest
-lengths, multipliers λ and anything else kept per constraint in model.edges order are read
-contiguously too, and the branch-free update runs four or eight pairs to an instruction.
+offsets, and model.py's 12 colours split each offset by the parity of a row or a column (or
+of its half, for bending). The sweeps keep positions in a structure-of-arrays scratch grid of
+16 blocks, one per (i mod 4, j mod 4), each w×w with w = ⌈n/4⌉: particle (i, j) sits at
+k·w + m of its block, k = i div 4, m = j div 4. Since 4 is a multiple of every colour's
+period, a colour takes whole blocks, and all pairs whose first particle lies in block A have
+their second in one block B at one fixed offset: a colour is at most 16 runs a[t] – b[t + Δ],
+each up to w² long, that vectorise. (The layout before kept one run per row and lane, and
+setting up each of those short runs cost about half the sweep at n = 128.)
 
-Rows of one colour share no particle, so the parallel kernel splits each colour's rows across
-threads. Colours absent from the model (a family switched off) have start −1.
+A run that steps across a column edge (m + 1 = w) pairs particles that are not neighbours,
+and a run's ends may pair a particle with grid padding. Those pairs keep a slot whose
+`alive` is 0, so the branch-free update moves nothing there; no such pair touches a
+particle that a real constraint of its colour moves (colours are conflict-free, and a
+wrapped pair's ends are in the first or last column, where its colour has no constraint),
+so even threads sharing a colour do not race. Each slot's rest length, `alive` flag and
+multiplier λ are kept in sweep order (`SweepPlan.slot_edge` maps slots to model.edges).
+Runs are cut into chunks of at most CHUNK pairs: the unit a thread takes.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import prange
@@ -30,122 +35,139 @@ NUM_COLORS = 12
 OFFSETS = ((0, 1), (0, 1), (1, 0), (1, 0), (1, 1), (1, 1), (1, -1), (1, -1),
            (0, 2), (0, 2), (2, 0), (2, 0))
 COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
-LANES = 4
-# The runs of each colour's rows, in sweep order: (lane of a, lane of b, b's step along the
-# lane); column j = 4m + lane. Along-a-row colours choose their columns by the lanes they use.
-RUNS = np.array([
-    [(0, 1, 0), (2, 3, 0), (0, 0, 0), (0, 0, 0)],  # 0: structural along a row, j even
-    [(1, 2, 0), (3, 0, 1), (0, 0, 0), (0, 0, 0)],  # 1: j odd
-    [(0, 0, 0), (1, 1, 0), (2, 2, 0), (3, 3, 0)],  # 2, 3: down a column
-    [(0, 0, 0), (1, 1, 0), (2, 2, 0), (3, 3, 0)],
-    [(0, 1, 0), (1, 2, 0), (2, 3, 0), (3, 0, 1)],  # 4, 5: shear (i, j)–(i+1, j+1)
-    [(0, 1, 0), (1, 2, 0), (2, 3, 0), (3, 0, 1)],
-    [(1, 0, 0), (2, 1, 0), (3, 2, 0), (0, 3, -1)],  # 6, 7: shear (i, j+1)–(i+1, j)
-    [(1, 0, 0), (2, 1, 0), (3, 2, 0), (0, 3, -1)],
-    [(0, 2, 0), (1, 3, 0), (0, 0, 0), (0, 0, 0)],  # 8: bending along a row, j mod 4 ∈ {0, 1}
-    [(2, 0, 1), (3, 1, 1), (0, 0, 0), (0, 0, 0)],  # 9: j mod 4 ∈ {2, 3}
-    [(0, 0, 0), (1, 1, 0), (2, 2, 0), (3, 3, 0)],  # 10, 11: bending down a column
-    [(0, 0, 0), (1, 1, 0), (2, 2, 0), (3, 3, 0)],
-], dtype=np.int64)
-NUM_RUNS = np.array([2, 2, 4, 4, 4, 4, 4, 4, 2, 2, 4, 4], dtype=np.int64)
+BLOCKS = 4  # rows and columns are split by index mod 4
+CHUNK = 512  # pairs a thread takes at a time (a multiple of the vector width)
+# Doubles between blocks and planes, so that a and b (and x, y, z) of one pair do not lie a
+# multiple of 4 KiB apart, where loads wait on unrelated stores (measured: 10 % slower)
+BLOCK_PAD = 8
+PLANE_SKEW = 1088  # bytes: y's plane starts this far past x's modulo 4 KiB, z's twice as far
 
 
-@kernel(inline="always")
-def lane_width(n):
-    """Elements per lane: ⌈n/4⌉."""
-    return (n + LANES - 1) // LANES
-
-
-def lane_grid(n: int) -> np.ndarray:
-    """Scratch positions for the sweeps, P[3, n, 4·⌈n/4⌉]: column j of a row at
-    (j mod 4)·⌈n/4⌉ + j div 4."""
-    return np.empty((3, n, LANES * lane_width(n)))
-
-
-def lane_masses(inv_mass: np.ndarray, n: int) -> np.ndarray:
-    """Inverse masses in the sweeps' lane layout, W[n, 4·⌈n/4⌉] (padding 0)."""
-    w = np.zeros((n, LANES * lane_width(n)))
-    w[:, :n] = inv_mass.reshape(n, n)
-    return np.ascontiguousarray(
-        w.reshape(n, lane_width(n), LANES).transpose(0, 2, 1).reshape(n, -1))
-
-
-def color_starts(edges: np.ndarray, color_offsets: np.ndarray, n: int) -> np.ndarray:
-    """Where each of the 12 grid colours starts in `edges` (−1 if absent). ValueError unless
-    `edges` are exactly the sweeps' order (`sweep_order`), which build_model's are."""
-    starts = np.full(NUM_COLORS, -1, np.int64)
-    for lo in color_offsets[:-1]:
-        a, b = int(edges[lo, 0]), int(edges[lo, 1])
-        ia, ja, d = a // n, a % n, (b // n - a // n, b % n - a % n)
-        if d not in OFFSETS:
-            raise ValueError(f"constraint ({a}, {b}) does not join grid neighbours")
-        kind = OFFSETS.index(d)
-        line = ja if kind in (0, 1, 8, 9) else ia  # the column or row its parity counts
-        starts[kind + (line if kind < 8 else line // 2) % 2] = lo
-    present = [c for c in range(NUM_COLORS) if starts[c] >= 0]
-    if not np.array_equal(edges, sweep_order(n, present)):
-        raise ValueError("the constraints are not in the grid sweeps' order")
-    return starts
-
-
-def sweep_order(n: int, colors: list[int]) -> np.ndarray:
-    """The (a, b) pairs of `colors`, in the order the sweeps visit them (NumPy, written
-    apart from the kernels' index arithmetic, as a check of both): rows of a colour in
-    turn, in each row the runs of RUNS, along each run the columns in increasing order."""
-    out = [np.zeros((0, 2), np.int64)]
-    for c in colors:
-        di, dj = OFFSETS[c]
-        p = c % 2
-        rows = np.arange(n - di)
-        if 2 <= c < 8:
-            rows = rows[rows % 2 == p]
-        elif c >= 10:
-            rows = rows[(rows // 2) % 2 == p]
-        lo, hi = max(0, -dj), n - 1 - max(0, dj)  # columns of first particles
-        cols_a, cols_b = [], []
-        for qa, qb, dm in RUNS[c, :NUM_RUNS[c]]:
-            ja = np.arange(lo, hi + 1)
-            ja = ja[ja % LANES == qa]
-            cols_a.append(ja)
-            cols_b.append(LANES * (ja // LANES + dm) + qb)
-        ja, jb = np.concatenate(cols_a), np.concatenate(cols_b)
-        a = (rows[:, None] * n + ja[None, :]).ravel()
-        b = ((rows[:, None] + di) * n + jb[None, :]).ravel()
-        out.append(np.stack([a, b], axis=1))
-    return np.concatenate(out).astype(np.int64)
-
-
-@kernel(inline="always")
-def rows_of(c, n):
-    """Grid rows holding colour c's constraints."""
-    p = c % 2
-    if c < 2 or c >= 8 and c < 10:
-        return n
-    if c < 8:
-        return (n - 1 - p + 1) // 2  # rows p, p+2, … ≤ n−2
-    # rows i ≤ n−3 with (i // 2) % 2 == p: 2p, 2p+1, 2p+4, 2p+5, …
-    last = n - 3 - 2 * p
-    if last < 0:
-        return 0
-    return 2 * (last // 4) + min(last % 4, 1) + 1
-
-
-@kernel(inline="always")
-def row_length(c, n):
-    """Constraints of colour c in one of its rows."""
+def color_of(c: int, row_block: int, col_block: int) -> bool:
+    """Whether the pairs of colour c start in block (i mod 4, j mod 4) (model.py's rule)."""
     p = c % 2
     if c < 2:
-        return max(0, (n - 1 - p + 1) // 2)  # columns p, p+2, … ≤ n−2
-    if c < 4:
-        return n
+        return col_block % 2 == p
     if c < 8:
-        return n - 1
+        return row_block % 2 == p
     if c < 10:
-        last = n - 3 - 2 * p  # columns j ≤ n−3 with (j // 2) % 2 == p
-        if last < 0:
-            return 0
-        return 2 * (last // 4) + min(last % 4, 1) + 1
-    return n
+        return col_block // 2 == p
+    return row_block // 2 == p
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """Where the sweeps keep things for one model (NumPy, built once; see the module)."""
+
+    n: int
+    width: int               # w = ⌈n/4⌉
+    block: int               # doubles per block, w² + BLOCK_PAD
+    grid_offset: np.ndarray  # (n²,) int64: particle p's place in a plane
+    inv_mass: np.ndarray     # (plane,) inverse masses in the layout (padding 0)
+    chunks: np.ndarray       # (K, 4) int64: a's first place, b's first place, first slot, length
+    color_chunks: np.ndarray  # (13,) int64: colour c's chunks are [cc[c], cc[c+1])
+    slot_edge: np.ndarray    # (S,) int64: the constraint in model.edges, −1 for none
+    rest: np.ndarray         # (S,) rest length of each slot (0 where none)
+    positions: np.ndarray    # (3, plane) scratch positions
+
+    @property
+    def slots(self) -> int:
+        return len(self.slot_edge)
+
+
+def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.ndarray,
+                inv_mass: np.ndarray) -> SweepPlan:
+    """The sweeps' layout and runs for a grid model. ValueError unless every constraint joins
+    grid neighbours and the model's colours are the sweeps' (in the same order)."""
+    w = -(-n // BLOCKS)
+    block = w * w + BLOCK_PAD
+    plane = BLOCKS * BLOCKS * block
+    plane += ((PLANE_SKEW - plane * 8) % 4096) // 8
+    i, j = np.divmod(np.arange(n * n), n)
+    grid_offset = ((i % BLOCKS) * BLOCKS + j % BLOCKS) * block + (i // BLOCKS) * w + j // BLOCKS
+    w_grid = np.zeros(plane)
+    w_grid[grid_offset] = inv_mass
+
+    colors = _edge_colors(edges, n)
+    for lo, hi in zip(color_offsets[:-1], color_offsets[1:]):
+        if len(set(colors[lo:hi].tolist())) != 1:
+            raise ValueError("the model's colours are not the grid sweeps' colours")
+    present = [int(colors[lo]) for lo in color_offsets[:-1]]
+    if present != sorted(set(present)):
+        raise ValueError("the model's colours are not in the grid sweeps' order")
+
+    chunks, color_chunks, slot_a, slot_b = [], [0], [], []
+    slots = 0
+    for c in range(NUM_COLORS):
+        if c in present:
+            di, dj = OFFSETS[c]
+            for ra in range(BLOCKS):
+                for qa in range(BLOCKS):
+                    if not color_of(c, ra, qa):
+                        continue
+                    dk, rb = divmod(ra + di, BLOCKS)
+                    dm, qb = divmod(qa + dj, BLOCKS)
+                    shift = dk * w + dm
+                    t0 = max(0, -shift)
+                    t1 = max(t0, min(w * w, w * w - shift))
+                    a_first = (ra * BLOCKS + qa) * block
+                    b_first = (rb * BLOCKS + qb) * block + shift
+                    t = np.arange(t0, t1)
+                    k, m = np.divmod(t, w)
+                    ia, ja = BLOCKS * k + ra, BLOCKS * m + qa
+                    kb, mb = np.divmod(t + shift, w)
+                    ib, jb = BLOCKS * kb + rb, BLOCKS * mb + qb
+                    real = (ia < n) & (ja < n) & (ib == ia + di) & (jb == ja + dj) \
+                        & (ib < n) & (jb >= 0) & (jb < n)
+                    slot_a.append(np.where(real, ia * n + ja, -1))
+                    slot_b.append(np.where(real, ib * n + jb, -1))
+                    for s in range(t0, t1, CHUNK):
+                        count = min(CHUNK, t1 - s)
+                        chunks.append((a_first + s, b_first + s, slots + s - t0, count))
+                    slots += t1 - t0
+        color_chunks.append(len(chunks))
+
+    slot_a = np.concatenate(slot_a) if slot_a else np.zeros(0, np.int64)
+    slot_b = np.concatenate(slot_b) if slot_b else np.zeros(0, np.int64)
+    slot_edge = _match_slots(slot_a, slot_b, edges, n)
+    slot_rest = np.zeros(len(slot_edge))
+    slot_rest[slot_edge >= 0] = rest[slot_edge[slot_edge >= 0]]
+    return SweepPlan(n=n, width=w, block=block, grid_offset=grid_offset, inv_mass=w_grid,
+                     chunks=np.array(chunks, np.int64).reshape(-1, 4),
+                     color_chunks=np.array(color_chunks, np.int64), slot_edge=slot_edge,
+                     rest=slot_rest, positions=np.zeros((3, plane)))
+
+
+def _edge_colors(edges: np.ndarray, n: int) -> np.ndarray:
+    """The sweeps' colour of each constraint; ValueError for one between far particles."""
+    a, b = edges[:, 0], edges[:, 1]
+    ia, ja, di, dj = a // n, a % n, b // n - a // n, b % n - a % n
+    colors = np.full(len(edges), -1, np.int64)
+    for kind in range(0, NUM_COLORS, 2):
+        on = (di == OFFSETS[kind][0]) & (dj == OFFSETS[kind][1])
+        line = ja if kind in (0, 8) else ia  # the column or row its parity counts
+        colors[on] = kind + (line[on] if kind < 8 else line[on] // 2) % 2
+    if (colors < 0).any():
+        e = int(np.argmax(colors < 0))
+        raise ValueError(f"constraint ({a[e]}, {b[e]}) does not join grid neighbours")
+    return colors
+
+
+def _match_slots(slot_a: np.ndarray, slot_b: np.ndarray, edges: np.ndarray,
+                 n: int) -> np.ndarray:
+    """The constraint of each slot (−1: none); ValueError unless each constraint has one."""
+    slot_edge = np.full(len(slot_a), -1, np.int64)
+    if len(edges):
+        key = edges[:, 0] * (n * n) + edges[:, 1]
+        order = np.argsort(key)
+        sorted_key = key[order]
+        slot_key = slot_a * (n * n) + slot_b
+        at = np.minimum(np.searchsorted(sorted_key, slot_key), len(key) - 1)
+        found = (slot_a >= 0) & (sorted_key[at] == slot_key)
+        slot_edge[found] = order[at[found]]
+    if np.count_nonzero(slot_edge >= 0) != len(edges):
+        raise ValueError("some constraints do not join grid neighbours of their colour")
+    return slot_edge
 
 
 @kernel(inline="always")
@@ -162,173 +184,145 @@ def coincident_direction(a, b):
 
 
 @kernel(inline="always")
-def _pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, alive, lam, e, alpha_t, a,
-          b):
-    """One projection (xpbd.py's update) between element ja of one lane and jb of another:
-    particles a and b of the sheet. Branch-free, so a run
-    vectorises: a pinned or torn pair (alive[e] == 0, tearing.py) gets zero correction
-    instead of an early exit. Coincident ends
-    (no direction of their own) are left to `_crushed_pair`. λ is always written; PBD
-    passes a scratch array."""
-    wa = wa_row[ja]
-    wb = wb_row[jb]
-    dx = xb[jb] - xa[ja]
-    dy = yb[jb] - ya[ja]
-    dz = zb[jb] - za[ja]
+def _pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t):
+    """One projection (xpbd.py's update) of pair t of a run. Branch-free, so a run
+    vectorises: a pinned, torn or padding pair (alive 0) gets a zero correction instead of
+    an early exit. Coincident ends (no direction of their own) are left to `_crushed_pair`.
+    λ is always written; PBD passes a scratch array."""
+    wa = wa_run[t]
+    wb = wb_run[t]
+    dx = xb[t] - xa[t]
+    dy = yb[t] - ya[t]
+    dz = zb[t] - za[t]
     d2 = dx * dx + dy * dy + dz * dz
     crushed = d2 < COINCIDENT * COINCIDENT
     d = math.sqrt(1.0 if crushed else d2)
-    lam_e = lam[e]
-    s = (rest[e] - d - alpha_t * lam_e) / (d * (wa + wb + alpha_t)) if wa + wb > 0.0 else 0.0
-    s = 0.0 if crushed or not alive[e] else s
-    xa[ja] -= wa * s * dx
-    ya[ja] -= wa * s * dy
-    za[ja] -= wa * s * dz
-    xb[jb] += wb * s * dx
-    yb[jb] += wb * s * dy
-    zb[jb] += wb * s * dz
-    lam[e] = lam_e + s * d
-    return 1 if crushed and alive[e] else 0  # left for `_crushed_pair`
+    lam_t = lam[t]
+    s = (rest[t] - d - alpha_t * lam_t) / (d * (wa + wb + alpha_t)) if wa + wb > 0.0 else 0.0
+    s = 0.0 if crushed or not alive[t] else s
+    xa[t] -= wa * s * dx
+    ya[t] -= wa * s * dy
+    za[t] -= wa * s * dz
+    xb[t] += wb * s * dx
+    yb[t] += wb * s * dy
+    zb[t] += wb * s * dz
+    lam[t] = lam_t + s * d
+    return 1 if crushed and alive[t] else 0
 
 
 @kernel(inline="always")
-def _crushed_pair(xa, ya, za, wa_row, ja, xb, yb, zb, wb_row, jb, rest, alive, lam, e,
-                  alpha_t, a, b):
-    """The pairs `_pair` left: ends closer than COINCIDENT separate along xpbd.py's fixed,
-    pair-dependent direction, so a crushed sheet unfolds exactly as with the plain loop.
-    Pairs of one colour share no particle, so doing these after the rest of their row
-    changes nothing."""
-    wa = wa_row[ja]
-    wb = wb_row[jb]
-    dx = xb[jb] - xa[ja]
-    dy = yb[jb] - ya[ja]
-    dz = zb[jb] - za[ja]
-    if alive[e] and wa + wb > 0.0 and dx * dx + dy * dy + dz * dz < COINCIDENT * COINCIDENT:
+def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t, a,
+                  b):
+    """The pairs `_pair` left: ends (particles a and b) closer than COINCIDENT separate along
+    xpbd.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as with the
+    plain loop. Pairs of one colour share no particle, so doing these after the rest of
+    their chunk changes nothing."""
+    wa = wa_run[t]
+    wb = wb_run[t]
+    dx = xb[t] - xa[t]
+    dy = yb[t] - ya[t]
+    dz = zb[t] - za[t]
+    if alive[t] and wa + wb > 0.0 and dx * dx + dy * dy + dz * dz < COINCIDENT * COINCIDENT:
         dx, dy, dz = coincident_direction(a, b)
         d = COINCIDENT
-        s = (rest[e] - d - alpha_t * lam[e]) / (d * (wa + wb + alpha_t))
-        xa[ja] -= wa * s * dx
-        ya[ja] -= wa * s * dy
-        za[ja] -= wa * s * dz
-        xb[jb] += wb * s * dx
-        yb[jb] += wb * s * dy
-        zb[jb] += wb * s * dz
-        lam[e] += s * d
-    return 0
+        s = (rest[t] - d - alpha_t * lam[t]) / (d * (wa + wb + alpha_t))
+        xa[t] -= wa * s * dx
+        ya[t] -= wa * s * dy
+        za[t] -= wa * s * dz
+        xb[t] += wb * s * dx
+        yb[t] += wb * s * dy
+        zb[t] += wb * s * dz
+        lam[t] += s * d
 
 
 @kernel(inline="always")
-def _run(pair, xa, ya, za, wa, xb, yb, zb, wb, rest, alive, lam, alpha_t, row_a, row_b, fa,
-         fb, width):
-    """`pair` along one contiguous run; a and b's particle indices only for coincident
-    pairs (row start + column, the column recovered from the lane position)."""
+def _particle(place, n, width, block):
+    """The sheet's particle index of a place in the layout."""
+    b, rem = place // block, place % block
+    k, m = rem // width, rem % width
+    return (BLOCKS * k + b // BLOCKS) * n + BLOCKS * m + b % BLOCKS
+
+
+@kernel(inline="always")
+def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, n, width, block):
+    """Every pair of chunk q: the vector pass, then the rare coincident pairs."""
+    a0, b0, s0, count = chunks[q, 0], chunks[q, 1], chunks[q, 2], chunks[q, 3]
+    xa, ya, za = P[0, a0:a0 + count], P[1, a0:a0 + count], P[2, a0:a0 + count]
+    xb, yb, zb = P[0, b0:b0 + count], P[1, b0:b0 + count], P[2, b0:b0 + count]
+    wa, wb = W[a0:a0 + count], W[b0:b0 + count]
+    rest_q, alive_q, lam_q = rest[s0:s0 + count], alive[s0:s0 + count], lam[s0:s0 + count]
     left = 0
-    for t in range(xa.shape[0]):
-        left += pair(xa, ya, za, wa, t, xb, yb, zb, wb, t, rest, alive, lam, t, alpha_t,
-                     row_a + _column(fa + t, width), row_b + _column(fb + t, width))
-    return left
+    for t in range(count):
+        left += _pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, alpha_t)
+    if left:
+        for t in range(count):
+            _crushed_pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, alpha_t,
+                          _particle(a0 + t, n, width, block),
+                          _particle(b0 + t, n, width, block))
 
 
 @kernel(inline="always")
-def _column(f, width):
-    return LANES * (f % width) + f // width
+def _begin(x, alive, P, grid_offset, slot_edge, slot_alive, lam):
+    """Positions into the layout, `alive` into slot order (0 for slots with no constraint:
+    tearing changes it between calls), λ reset: it accumulates over one substep's passes."""
+    for p in range(grid_offset.shape[0]):
+        g = grid_offset[p]
+        P[0, g] = x[p, 0]
+        P[1, g] = x[p, 1]
+        P[2, g] = x[p, 2]
+    for s in range(slot_edge.shape[0]):
+        e = slot_edge[s]
+        slot_alive[s] = alive[e] if e >= 0 else 0
+    lam[:] = 0.0
 
 
 @kernel(inline="always")
-def _project_row(pair, P, W, rest, alive, lam, starts, c, r, n, alpha_t):
-    """Runs `pair` on every constraint of row r of colour c (rows of one colour are
-    independent), run by run (RUNS). Returns what the pairs return: how many coincident
-    pairs were left."""
-    left = 0
-    r = np.int64(r)  # a prange index may be unsigned: int64 arithmetic, no float mixing
-    p = c % 2
-    e = starts[c] + r * row_length(c, n)
-    if c < 2 or c >= 8 and c < 10:
-        ia = ib = r
-    elif c < 10:
-        ia, ib = p + 2 * r, p + 2 * r + 1
-    else:
-        ia = 4 * (r // 2) + 2 * p + r % 2
-        ib = ia + 2
-    lo = 1 if c == 6 or c == 7 else 0  # columns of the first particles
-    hi = n - 2 if c < 2 or c == 4 or c == 5 else n - 3 if c == 8 or c == 9 else n - 1
-    width = lane_width(n)
-    xa, ya, za, wa = P[0, ia], P[1, ia], P[2, ia], W[ia]
-    xb, yb, zb, wb = P[0, ib], P[1, ib], P[2, ib], W[ib]
-    fa = fb = count = 0  # the current run: first elements of a and b in the row, length
-    na = nb = more = 0
-    for k in range(NUM_RUNS[c] + 1):
-        if k < NUM_RUNS[c]:
-            qa, qb, dm = RUNS[c, k, 0], RUNS[c, k, 1], RUNS[c, k, 2]
-            m0 = max(0, (lo - qa + LANES - 1) // LANES)
-            more = (hi - qa) // LANES - m0 + 1
-            if more <= 0:
-                continue
-            na, nb = qa * width + m0, qb * width + m0 + dm
-            if count and na == fa + count and nb == fb + count:
-                count += more  # this run continues the last in memory: one longer loop
-                continue
-        if count:
-            left += _run(pair, xa[fa:fa + count], ya[fa:fa + count], za[fa:fa + count],
-                         wa[fa:fa + count], xb[fb:fb + count], yb[fb:fb + count],
-                         zb[fb:fb + count], wb[fb:fb + count], rest[e:e + count],
-                         alive[e:e + count], lam[e:e + count], alpha_t, ia * n, ib * n, fa,
-                         fb, width)
-            e += count
-        if k < NUM_RUNS[c]:
-            fa, fb, count = na, nb, more
-    return left
-
-
-@kernel(inline="always")
-def _gather(x, P, n):
-    width = lane_width(n)
-    for i in range(n):
-        for j in range(n):
-            for a in range(3):
-                P[a, i, (j % LANES) * width + j // LANES] = x[i * n + j, a]
-
-
-@kernel(inline="always")
-def _scatter(P, x, n):
-    width = lane_width(n)
-    for i in range(n):
-        for j in range(n):
-            for a in range(3):
-                x[i * n + j, a] = P[a, i, (j % LANES) * width + j // LANES]
+def _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t):
+    """Positions back; XPBD's multipliers into model.edges order (PBD keeps none)."""
+    for p in range(grid_offset.shape[0]):
+        g = grid_offset[p]
+        x[p, 0] = P[0, g]
+        x[p, 1] = P[1, g]
+        x[p, 2] = P[2, g]
+    if alpha_t != 0.0:
+        for s in range(slot_edge.shape[0]):
+            if slot_edge[s] >= 0:
+                lambdas[slot_edge[s]] = lam[s]
 
 
 @kernel(_nrt=False)
-def sweep_grid_colors(x, W, rest, alive, lam, starts, alpha_t, iterations, P):
+def sweep_grid_colors(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks, slot_edge,
+                      rest, slot_alive, lam, n, width, block, alpha_t, iterations):
     """`iterations` passes of coloured Gauss-Seidel over the grid, one thread, skipping torn
-    constraints (alive[e] == 0). λ is reset: it accumulates over one substep's passes, and
-    only for XPBD (α > 0)."""
-    n = W.shape[0]
-    lam[:] = 0.0
-    _gather(x, P, n)
+    constraints (alive[e] == 0). `lam` and `slot_alive` are scratch in slot order; XPBD's λ
+    of this substep end in `lambdas`."""
+    _begin(x, alive, P, grid_offset, slot_edge, slot_alive, lam)
     for _ in range(iterations):
         for c in range(NUM_COLORS):
-            if starts[c] < 0:
-                continue
-            for r in range(rows_of(c, n)):
-                if _project_row(_pair, P, W, rest, alive, lam, starts, c, r, n, alpha_t):
-                    _project_row(_crushed_pair, P, W, rest, alive, lam, starts, c, r, n,
-                                 alpha_t)
-    _scatter(P, x, n)
+            for q in range(color_chunks[c], color_chunks[c + 1]):
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, n, width,
+                               block)
+    _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
 
 
 @kernel(parallel=True, _nrt=False)
-def sweep_grid_colors_parallel(x, W, rest, alive, lam, starts, alpha_t, iterations, P):
-    """The same sweeps with each colour's rows split across threads (a barrier per colour)."""
-    n = W.shape[0]
-    lam[:] = 0.0
-    _gather(x, P, n)
+def sweep_grid_colors_parallel(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks,
+                               slot_edge, rest, slot_alive, lam, n, width, block, alpha_t,
+                               iterations):
+    """The same sweeps with each colour's chunks split across threads (a barrier per
+    colour)."""
+    _begin(x, alive, P, grid_offset, slot_edge, slot_alive, lam)
     for _ in range(iterations):
         for c in range(NUM_COLORS):
-            if starts[c] < 0:
-                continue
-            for r in prange(rows_of(c, n)):
-                if _project_row(_pair, P, W, rest, alive, lam, starts, c, r, n, alpha_t):
-                    _project_row(_crushed_pair, P, W, rest, alive, lam, starts, c, r, n,
-                                 alpha_t)
-    _scatter(P, x, n)
+            for q in prange(color_chunks[c], color_chunks[c + 1]):
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, n, width,
+                               block)
+    _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
+
+
+def sweep(kernel_fn, plan: SweepPlan, x, alive, lambdas, slot_alive, lam, alpha_t,
+          iterations) -> None:
+    """Runs `kernel_fn` (one of the two above) with `plan`'s arrays."""
+    kernel_fn(x, alive, lambdas, plan.positions, plan.inv_mass, plan.grid_offset, plan.chunks,
+              plan.color_chunks, plan.slot_edge, plan.rest, slot_alive, lam, plan.n,
+              plan.width, plan.block, alpha_t, iterations)

@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid_sweeps import sweep_order
 
 FAMILIES = ("structural", "shear", "bending")
 STRUCTURAL, SHEAR, BENDING = 0, 1, 2
@@ -186,9 +185,6 @@ def build_model(cloth, behavior) -> ClothModel:
     colors = _color_edges_grid(edges, family, n)
     order = np.argsort(colors, kind="stable")
     edges, family, colors = edges[order], family[order], colors[order]
-    if len(edges):  # inside each colour, the order the grid sweeps visit (grid_sweeps.py)
-        edges = sweep_order(n, sorted(set(colors.tolist())))
-        family = (colors // 4).astype(np.int8)  # colours 0–3 structural, 4–7 shear, 8–11 bending
     counts = np.bincount(colors, minlength=12) if len(colors) else np.zeros(0, np.int64)
     offsets = np.concatenate([[0], np.cumsum(counts[counts > 0])]).astype(np.int64)
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import (COINCIDENT, coincident_direction, color_starts, lane_grid,
-                          lane_masses, sweep_grid_colors, sweep_grid_colors_parallel)
+from .grid_sweeps import (COINCIDENT, coincident_direction, plan_sweeps, sweep,
+                          sweep_grid_colors, sweep_grid_colors_parallel)
 from .jit import kernel
 from .threads import KernelChoice
 
@@ -90,11 +90,10 @@ class ProjectConstraints:
         self.iterations = iterations
         self.alpha_t = compliance / (h * h)
         self.lambdas = np.zeros(model.num_constraints)
-        self._lam = self.lambdas if self.alpha_t else np.zeros(model.num_constraints)
-        n = model.n
-        self._starts = color_starts(model.edges, model.color_offsets, n)
-        self._inv_mass = lane_masses(model.inv_mass, n)
-        self._grid = lane_grid(n)  # structure-of-arrays positions, scratch
+        self._plan = plan_sweeps(model.n, model.edges, model.color_offsets, model.rest_length,
+                                 model.inv_mass)
+        self._slot_alive = np.zeros(self._plan.slots, np.uint8)  # scratch, in sweep order
+        self._slot_lam = np.zeros(self._plan.slots)
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(
             sweep_grid_colors,
@@ -109,6 +108,5 @@ class ProjectConstraints:
         return self.kernels.threads
 
     def apply(self, state, h):
-        m = self.model
-        self.kernels(state.x, self._inv_mass, m.rest_length, state.alive, self._lam,
-                     self._starts, self.alpha_t, self.iterations, self._grid)
+        sweep(self.kernels, self._plan, state.x, state.alive, self.lambdas, self._slot_alive,
+              self._slot_lam, self.alpha_t, self.iterations)

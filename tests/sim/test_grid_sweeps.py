@@ -18,12 +18,17 @@ def _intact(m):
     return np.ones(m.num_constraints, np.uint8)
 
 
+def _plan(m):
+    return grid_sweeps.plan_sweeps(m.n, m.edges, m.color_offsets, m.rest_length, m.inv_mass)
+
+
 def _sweep(kernel, m, x, alpha_t, iterations=3, alive=None):
+    """The sweeps on x; returns the multipliers λ in model.edges order."""
     lam = np.zeros(m.num_constraints)
-    starts = grid_sweeps.color_starts(m.edges, m.color_offsets, m.n)
+    plan = _plan(m)
     alive = _intact(m) if alive is None else alive
-    kernel(x, grid_sweeps.lane_masses(m.inv_mass, m.n), m.rest_length, alive, lam, starts,
-           alpha_t, iterations, grid_sweeps.lane_grid(m.n))
+    grid_sweeps.sweep(kernel, plan, x, alive, lam, np.zeros(plan.slots, np.uint8),
+                      np.zeros(plan.slots), alpha_t, iterations)
     return lam
 
 
@@ -65,7 +70,7 @@ def test_sweeps_skip_torn_constraints_as_the_plain_loop_does(kernel, alpha_t):
     lam = _sweep(kernel, m, b, alpha_t, alive=alive)
     np.testing.assert_allclose(b, a, atol=1e-12)
     assert not lam[alive == 0].any()
-    if alpha_t:  # PBD's λ goes to a scratch array the plain loop does not write
+    if alpha_t:  # PBD keeps no λ
         np.testing.assert_allclose(lam, lam_ref, atol=1e-12)
     _sweep(kernel, m, c, alpha_t)  # all intact: a different answer, so the mask was read
     assert np.abs(c - b).max() > 1e-4
@@ -83,21 +88,62 @@ def test_sweeps_with_families_switched_off(families):
     np.testing.assert_allclose(b, a, atol=1e-12)
 
 
-def test_color_starts_rejects_edges_not_in_grid_order():
+def test_plan_rejects_colours_out_of_the_sweeps_order():
+    # The sweeps visit colours 0…11; a model listing them otherwise would converge to a
+    # different answer than its own plain loop.
     m = _model(6)
-    edges = m.edges.copy()
-    lo, hi = m.color_offsets[2], m.color_offsets[3]
-    edges[lo:hi] = edges[lo:hi][::-1]
+    off = m.color_offsets
+    first, second = slice(off[0], off[1]), slice(off[1], off[2])
+    edges = np.concatenate([m.edges[second], m.edges[first], m.edges[off[2]:]])
+    offsets = off.copy()
+    offsets[1] = off[0] + (off[2] - off[1])
     with pytest.raises(ValueError, match="order"):
-        grid_sweeps.color_starts(edges, m.color_offsets, m.n)
+        grid_sweeps.plan_sweeps(m.n, edges, offsets, m.rest_length, m.inv_mass)
 
 
-def test_color_starts_rejects_a_constraint_between_far_particles():
+def test_plan_rejects_a_colour_mixing_two_sweep_colours():
+    m = _model(6)
+    offsets = np.delete(m.color_offsets, 1)  # colours 0 and 1 as one
+    with pytest.raises(ValueError, match="colours"):
+        grid_sweeps.plan_sweeps(m.n, m.edges, offsets, m.rest_length, m.inv_mass)
+
+
+def test_plan_rejects_a_constraint_between_far_particles():
     m = _model(6)
     edges = m.edges.copy()
     edges[0] = (0, 14)
     with pytest.raises(ValueError, match="grid neighbours"):
-        grid_sweeps.color_starts(edges, m.color_offsets, m.n)
+        grid_sweeps.plan_sweeps(m.n, edges, m.color_offsets, m.rest_length, m.inv_mass)
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 8, 13])
+def test_plan_gives_each_constraint_one_slot_joining_its_particles(n):
+    # Written apart from the kernels' index arithmetic: every constraint has exactly one
+    # slot, whose a and b places in the layout hold that constraint's two particles.
+    m = _model(n, pinned="none")
+    plan = _plan(m)
+    slot_edge = plan.slot_edge
+    assert sorted(slot_edge[slot_edge >= 0].tolist()) == list(range(m.num_constraints))
+    slots = sorted(s0 + t for _, _, s0, count in plan.chunks for t in range(count))
+    assert slots == list(range(plan.slots))  # chunks share no slot and leave none out
+    place_of = {int(g): p for p, g in enumerate(plan.grid_offset)}
+    for a0, b0, s0, count in plan.chunks:
+        for t in range(count):
+            e = slot_edge[s0 + t]
+            if e >= 0:
+                assert (place_of[a0 + t], place_of[b0 + t]) == tuple(m.edges[e])
+                assert plan.rest[s0 + t] == m.rest_length[e]
+
+
+def test_plan_colours_touch_each_particle_once():
+    # Conflict-free even counting the padding and wrapped slots (alive 0) that still write
+    # their particles back unchanged: threads sharing a colour then never race.
+    plan = _plan(_model(11, pinned="none"))
+    for c in range(grid_sweeps.NUM_COLORS):
+        places = []
+        for a0, b0, _, count in plan.chunks[plan.color_chunks[c]:plan.color_chunks[c + 1]]:
+            places += list(range(a0, a0 + count)) + list(range(b0, b0 + count))
+        assert len(places) == len(set(places))
 
 
 def test_crushed_pair_separates_along_its_rest_direction():
