@@ -9,7 +9,9 @@ is used only while it measurably wins, and contention sends the choice back to s
   thread got less than CONTENDED_CPU_SHARE of the wall time, the machine has no idle core;
 - a parallel call slower than SLOWER_BY × the serial estimate switches back immediately;
 - the parallel kernel is re-tried after a backoff that doubles each time it loses, and only
-  while the load average leaves a core idle (a losing try under heavy load cost 100 ms);
+  while a core is idle now (the kernel's count of runnable threads, this one included, is
+  below the cores) and on average (the 1-minute load average lags a new busy process by
+  tens of seconds, and a losing try under load costs 10–100 ms);
 CLOTH_TUI_THREADS=1 (environment) or `force_single_thread(True)` (the app's key) keeps
 everything on one thread.
 """
@@ -67,9 +69,23 @@ def load_average() -> float:
         return 0.0
 
 
+def runnable_now() -> int | None:
+    """Threads runnable on the machine at this instant, the caller included (the fourth
+    field of /proc/loadavg); None where unknown."""
+    try:
+        with open("/proc/loadavg") as fh:
+            return int(fh.read().split()[3].split("/")[0])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
 def spare_core() -> bool:
-    """Whether the machine has, on average, a core nobody else wants."""
-    return load_average() < usable_cores() - 0.5
+    """Whether the machine has a core nobody else wants, now and on average."""
+    cores = usable_cores()
+    running = runnable_now()
+    if running is not None and running >= cores:
+        return False
+    return load_average() < cores - 0.5
 
 
 def usable_cores() -> int:

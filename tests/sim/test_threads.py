@@ -24,6 +24,7 @@ class Recorder:
 def _cores(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 2)
     monkeypatch.setattr(threads, "load_average", lambda: 0.5)
+    monkeypatch.setattr(threads, "runnable_now", lambda: 1)
     # judge by the timings alone: on a loaded test machine even a spinning serial kernel
     # gets preempted (test_preempted_serial_kernel_means_no_parallel_try checks that rule)
     monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
@@ -98,6 +99,22 @@ def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
     for _ in range(40):
         choice()
     assert parallel.calls == 0
+
+
+def test_no_parallel_try_while_another_thread_is_running_now(monkeypatch):
+    # A busy process started a moment ago has not yet moved the load average; the count of
+    # runnable threads sees it at once (itself and this thread fill both cores).
+    monkeypatch.setattr(threads, "runnable_now", lambda: 2)
+    serial, parallel = Recorder("s", 0.002), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls == 0
+
+
+def test_runnable_now_counts_at_least_the_caller():
+    running = threads.runnable_now()
+    assert running is None or running >= 1
 
 
 def test_preempted_serial_kernel_means_no_parallel_try(monkeypatch):
