@@ -97,16 +97,30 @@ def xpbd_residual(x, edges, rest, alive, lambdas, alpha_tilde) -> float:
 def stretch(model: ClothModel, x: np.ndarray, alive: np.ndarray | None = None
             ) -> tuple[float, float]:
     """Max and mean of |L/L0 − 1| over the enabled constraints still intact (all of them
-    when `alive` is None)."""
-    e, rest = model.edges, model.rest_length
-    if alive is not None and not alive.all():
-        keep = alive.astype(bool)
-        e, rest = e[keep], rest[keep]
-    if not len(e):
+    when `alive` is None). NaN if a position is NaN."""
+    if alive is None:
+        alive = np.ones(model.num_constraints, np.uint8)
+    return _stretch_max_mean(x, model.edges, model.rest_length, alive)
+
+
+@kernel(fastmath=False)
+def _stretch_max_mean(x, edges, rest, alive):
+    """One pass, no temporaries: at 256² the NumPy version's gathers took ~6 % of the
+    simulation thread (the app asks every 0.2 s)."""
+    worst = 0.0
+    total = 0.0
+    count = 0
+    for e in range(edges.shape[0]):
+        if not alive[e]:
+            continue
+        r = abs(edge_length(x, edges, e) / rest[e] - 1.0)
+        if r > worst or r != r:  # a NaN is kept, as np.max keeps it
+            worst = r
+        total += r
+        count += 1
+    if count == 0:
         return 0.0, 0.0
-    d = x[e[:, 0]] - x[e[:, 1]]
-    r = np.abs(np.sqrt(np.einsum("ij,ij->i", d, d)) / rest - 1.0)
-    return float(r.max()), float(r.mean())
+    return worst, total / count
 
 
 def kinetic_energy(model: ClothModel, state: ClothState) -> float:
