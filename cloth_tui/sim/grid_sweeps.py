@@ -98,34 +98,14 @@ def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.n
         raise ValueError("the model's colours are not in the grid sweeps' order")
 
     chunks, color_chunks, slot_a, slot_b = [], [0], [], []
-    slots = 0
     for c in range(NUM_COLORS):
-        if c in present:
-            di, dj = OFFSETS[c]
-            for ra in range(BLOCKS):
-                for qa in range(BLOCKS):
-                    if not color_of(c, ra, qa):
-                        continue
-                    dk, rb = divmod(ra + di, BLOCKS)
-                    dm, qb = divmod(qa + dj, BLOCKS)
-                    shift = dk * w + dm
-                    t0 = max(0, -shift)
-                    t1 = max(t0, min(w * w, w * w - shift))
-                    a_first = (ra * BLOCKS + qa) * block
-                    b_first = (rb * BLOCKS + qb) * block + shift
-                    t = np.arange(t0, t1)
-                    k, m = np.divmod(t, w)
-                    ia, ja = BLOCKS * k + ra, BLOCKS * m + qa
-                    kb, mb = np.divmod(t + shift, w)
-                    ib, jb = BLOCKS * kb + rb, BLOCKS * mb + qb
-                    real = (ia < n) & (ja < n) & (ib == ia + di) & (jb == ja + dj) \
-                        & (ib < n) & (jb >= 0) & (jb < n)
-                    slot_a.append(np.where(real, ia * n + ja, -1))
-                    slot_b.append(np.where(real, ib * n + jb, -1))
-                    for s in range(t0, t1, CHUNK):
-                        count = min(CHUNK, t1 - s)
-                        chunks.append((a_first + s, b_first + s, slots + s - t0, count))
-                    slots += t1 - t0
+        for a_first, b_first, pair_a, pair_b in (_runs(c, n, w, block) if c in present else ()):
+            first_slot = sum(len(a) for a in slot_a)
+            for t in range(0, len(pair_a), CHUNK):
+                chunks.append((a_first + t, b_first + t, first_slot + t,
+                               min(CHUNK, len(pair_a) - t)))
+            slot_a.append(pair_a)
+            slot_b.append(pair_b)
         color_chunks.append(len(chunks))
 
     slot_a = np.concatenate(slot_a) if slot_a else np.zeros(0, np.int64)
@@ -137,6 +117,30 @@ def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.n
                      chunks=np.array(chunks, np.int64).reshape(-1, 4),
                      color_chunks=np.array(color_chunks, np.int64), slot_edge=slot_edge,
                      rest=slot_rest, positions=np.zeros((3, plane)))
+
+
+def _runs(c: int, n: int, w: int, block: int):
+    """Colour c's runs, one per block its pairs start in: the places of the first a and b,
+    and the particles each pair of the run joins (−1, −1 where it joins no grid neighbours:
+    padding or a wrap across a column edge)."""
+    di, dj = OFFSETS[c]
+    for ra in range(BLOCKS):
+        for qa in range(BLOCKS):
+            if not color_of(c, ra, qa):
+                continue
+            dk, rb = divmod(ra + di, BLOCKS)
+            dm, qb = divmod(qa + dj, BLOCKS)
+            shift = dk * w + dm  # b's place − a's place inside their blocks
+            t = np.arange(max(0, -shift), max(0, min(w * w, w * w - shift)))
+            k, m = np.divmod(t, w)
+            ia, ja = BLOCKS * k + ra, BLOCKS * m + qa
+            kb, mb = np.divmod(t + shift, w)
+            ib, jb = BLOCKS * kb + rb, BLOCKS * mb + qb
+            real = (ia < n) & (ja < n) & (ib == ia + di) & (jb == ja + dj) & (ib < n) \
+                & (jb >= 0) & (jb < n)
+            if len(t):
+                yield ((ra * BLOCKS + qa) * block + t[0], (rb * BLOCKS + qb) * block + shift
+                       + t[0], np.where(real, ia * n + ja, -1), np.where(real, ib * n + jb, -1))
 
 
 def _edge_colors(edges: np.ndarray, n: int) -> np.ndarray:
