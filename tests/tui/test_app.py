@@ -262,6 +262,30 @@ def test_run_app_refuses_unusable_captures_dir(tmp_path, capsys):
     assert "captures" in err and len(err.strip().splitlines()) == 1
 
 
+def test_run_app_shortens_the_gil_switch_interval_while_it_runs(tmp_path):
+    # The simulation thread must get the GIL back quickly between its compiled calls while
+    # the UI thread runs Python; the process's own interval comes back afterwards.
+    import sys
+
+    from cloth_tui.tui import app as app_module
+
+    seen = []
+
+    class Probe:
+        crash, return_code = None, 0
+
+        def __init__(self, scene, captures_dir, **kwargs):
+            pass
+
+        def run(self):
+            seen.append(sys.getswitchinterval())
+
+    before = sys.getswitchinterval()
+    assert run_app(Scene(), tmp_path / "caps", app_class=Probe) == 0
+    assert seen == [app_module.GIL_SWITCH_INTERVAL_S] and before > seen[0]
+    assert sys.getswitchinterval() == before
+
+
 def test_t_key_keeps_the_physics_on_one_thread(tmp_path):
     from cloth_tui.sim import threads
 
