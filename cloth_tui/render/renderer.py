@@ -32,7 +32,7 @@ HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visi
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
 FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
-MIN_CELL_PX = 1.0          # grid cells drawn at least this wide on screen (see _detail_stride)
+MIN_CELL_PX = 2.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
 
@@ -226,9 +226,11 @@ class Renderer:
 
     def _detail_stride(self) -> int:
         """How many grid rows one drawn row spans: 1 unless the sheet's cells would be
-        narrower than MIN_CELL_PX on screen (at 640×384 a 256² sheet's are 0.9 px), where
-        software GL spends its time setting up triangles nobody can see. The wireframe is
-        always drawn whole: it shows the mesh itself."""
+        narrower than MIN_CELL_PX on screen (at 640×384 a 128² sheet's are 1.9 px, a
+        256²'s 0.9 px). Software GL pays per triangle, not per pixel, for triangles this
+        small (each is set up and shaded in at least one 4×4 block: a 128² sheet's 32k
+        triangles were 60 % of a 640×384 frame); what thinning loses, creases a few pixels
+        wide, hardly shows. The wireframe is always drawn whole: it shows the mesh itself."""
         if self._scene.appearance.wireframe or self._model.n < 3:
             return 1
         half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))

@@ -105,3 +105,26 @@ def test_cells_smaller_than_a_pixel_are_drawn_thinned_and_look_the_same(renderer
     wire = draped(scene_with(wireframe=True).with_value("cloth.resolution", 128))
     fresh(renderer, wire, size=(160, 120))
     assert renderer.cloth.n_cells == len(snap.model.triangles)  # the wireframe shows all
+
+
+def test_cells_under_two_pixels_are_drawn_thinned_and_narrow_folds_still_show(renderer,
+                                                                             monkeypatch):
+    """At 640×384 a 128² sheet's cells are 1.9 px: software GL pays per triangle there, so
+    every other row is drawn (a quarter of the triangles), and folds three cells wide look
+    as they do with every triangle."""
+    import cloth_tui.render.renderer as renderer_module
+
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    snap = draped(scene)
+    x = snap.positions.copy()
+    x[:, 1] += 0.004 * np.sin(2 * np.pi * x[:, 0] / (6 * snap.model.spacing))
+    folded = with_positions(snap, x)
+    thinned = fresh(renderer, folded, size=(640, 384)).astype(int)
+    assert renderer.cloth.n_cells <= len(snap.model.triangles) // 3
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle
+    whole = renderer.render(folded).astype(int)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    assert np.abs(thinned - whole).mean() < 0.5
+    mask, shade = cloth_red(whole.astype(np.uint8))
+    assert mask.sum() > 10000 and shade.std() > 20  # the folds' light and shade
+    assert np.corrcoef(thinned[..., 0][mask], shade)[0, 1] > 0.95
