@@ -20,29 +20,34 @@ SUBPIXEL = 0.75     # FXAA's default sub-pixel strength: a lone pixel takes 3/4 
 
 
 @kernel()
-def blend_across_edges(src, luma, out):
-    """Blend `out`'s edge pixels, `out` holding a copy of `src` (both (H, W, 3) uint8) on
-    entry (NumPy copies it 20× faster than a loop here). `luma` (H, W) float32 is scratch."""
+def blend_across_edges(src, luma, edge, out):
+    """Blend `out`'s edge pixels, `out` holding a C-ordered copy of `src` (both (H, W, 3)
+    uint8) on entry (NumPy copies it 20× faster than a loop here). `luma` (H, W) float32,
+    C-ordered, and `edge` (W,) bool are scratch.
+
+    Rows are read through row views indexed from 0 up: with `luma[y, x - 1]` numba's
+    negative-index wrap-around check kept LLVM from vectorizing, and the edge test over
+    every pixel (branch-free, so it vectorizes) took 10× as long."""
     h, w = src.shape[0], src.shape[1]
-    for y in range(h):
-        for x in range(w):
-            luma[y, x] = 0.299 * src[y, x, 0] + 0.587 * src[y, x, 1] + 0.114 * src[y, x, 2]
+    rgb, lum = out.ravel(), luma.ravel()  # views: C-ordered, flat indices vectorize
+    for i in range(h * w):
+        lum[i] = 0.299 * rgb[3 * i] + 0.587 * rgb[3 * i + 1] + 0.114 * rgb[3 * i + 2]
     for y in range(1, h - 1):
+        up, mid, down = luma[y - 1], luma[y], luma[y + 1]
+        for x in range(w - 2):  # edge[x + 1]: is pixel x + 1 of this row on an edge?
+            m, n, s, e, wl = mid[x + 1], up[x + 1], down[x + 1], mid[x + 2], mid[x]
+            hi = max(max(max(m, n), max(s, e)), wl)
+            span = hi - min(min(min(m, n), min(s, e)), wl)
+            edge[x + 1] = (span >= EDGE_MIN) & (span >= EDGE_SHARE * hi)
         for x in range(1, w - 1):
-            m = luma[y, x]
-            n = luma[y - 1, x]
-            s = luma[y + 1, x]
-            e = luma[y, x + 1]
-            wl = luma[y, x - 1]
-            hi = max(m, n, s, e, wl)
-            lo = min(m, n, s, e, wl)
-            span = hi - lo
-            if span < EDGE_MIN or span < EDGE_SHARE * hi:
+            if not edge[x]:
                 continue
+            m, n, s, e, wl = mid[x], up[x], down[x], mid[x + 1], mid[x - 1]
+            span = max(m, n, s, e, wl) - min(m, n, s, e, wl)
             # FXAA's sub-pixel amount: how far the pixel stands out from its 3×3 surroundings
             # (a lone or corner pixel much, a pixel on a straight edge little)
-            around = (2.0 * (n + s + e + wl) + luma[y - 1, x - 1] + luma[y - 1, x + 1]
-                      + luma[y + 1, x - 1] + luma[y + 1, x + 1]) / 12.0
+            around = (2.0 * (n + s + e + wl) + up[x - 1] + up[x + 1]
+                      + down[x - 1] + down[x + 1]) / 12.0
             t = min(1.0, abs(around - m) / span)
             t = (3.0 - 2.0 * t) * t * t
             blend = SUBPIXEL * t * t
@@ -60,5 +65,6 @@ def antialias(image: np.ndarray) -> np.ndarray:
     # any strides (a bottom-up read-back viewed top-down is read in place, not copied)
     src = np.asarray(image, dtype=np.uint8)
     out = np.array(src, order="C")
-    blend_across_edges(src, np.empty(src.shape[:2], np.float32), out)
+    blend_across_edges(src, np.empty(src.shape[:2], np.float32),
+                       np.zeros(src.shape[1], np.bool_), out)
     return out
