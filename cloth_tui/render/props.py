@@ -11,6 +11,7 @@ from .geometry import AMBIENT, GROUND_DIFFUSE, flat_ground_light, fog_factor, he
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge
 FOG_NEAR, FOG_FAR = 2.0, 11.0  # m from the centre: the original's fog, scaled to its camera
 POLE_COLOR = "#c8c8c8"
+POLE_SIDES = 8
 OBJECT_COLOR = "#e8e3d8"
 OBJECT_OPACITY = 0.55
 PLANE_HALF = 0.9  # m: shown extent of an (infinite) collision plane, about the sheet's
@@ -145,6 +146,12 @@ class Poles:
         self.mesh = pv.PolyData()
         self.actor = plotter.add_mesh(self.mesh, color=POLE_COLOR, ambient=0.35, diffuse=0.8,
                                       specular=0.2, reset_camera=False)
+        # Few sides, smooth-shaded (by the cylinders' own normals: add_mesh's smooth_shading
+        # would draw a copy that update() never reaches), back faces culled: long thin
+        # slivers spanning many of software GL's tiles cost it more than their pixels (16
+        # flat sides: ~2 ms at 882×696)
+        self.actor.prop.interpolation = "phong"
+        self.actor.prop.culling = "back"  # closed solids: their insides never show
         self.key = None
 
     def update(self, scene) -> None:
@@ -159,7 +166,7 @@ class Poles:
             return
         half, r = c.size / 2, max(0.006, 0.008 * c.size)
         poles = [self.pv.Cylinder(center=(x, 0.5 * (top + bottom), z), direction=(0, 1, 0),
-                                  radius=r, height=top - bottom, resolution=16)
+                                  radius=r, height=top - bottom, resolution=POLE_SIDES)
                  for x in (-half, half) for z in (-half, half)]
         self.mesh.copy_from(poles[0].append_polydata(*poles[1:]))
         self.actor.SetVisibility(True)

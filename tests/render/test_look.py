@@ -128,3 +128,25 @@ def test_cells_under_two_pixels_are_drawn_thinned_and_narrow_folds_still_show(re
     mask, shade = cloth_red(whole.astype(np.uint8))
     assert mask.sum() > 10000 and shade.std() > 20  # the folds' light and shade
     assert np.corrcoef(thinned[..., 0][mask], shade)[0, 1] > 0.95
+
+
+def test_the_poles_are_smooth_closed_solids_of_few_sides(renderer):
+    """Software GL pays for the poles' long thin sides by the tiles they cross, not by their
+    pixels: few sides, smooth-shaded so they still read as round, back faces culled."""
+    from cloth_tui.render.props import POLE_SIDES
+
+    snap = draped(scene_with(wireframe=False))
+    fresh(renderer, snap, size=(320, 240))
+    poles = renderer.poles
+    assert POLE_SIDES <= 8 and poles.mesh.n_cells == 4 * (POLE_SIDES + 2)  # sides, two caps
+    assert poles.actor.prop.GetBackfaceCulling()
+    assert poles.actor.prop.interpolation.name.lower() in ("phong", "gouraud")
+    img = fresh(renderer, with_positions(snap, snap.positions + [40.0, 0.0, 0.0])).astype(int)
+    grey = ((np.abs(img[..., 0] - img[..., 1]) < 10) & (np.abs(img[..., 1] - img[..., 2]) < 10)
+            & (img[..., 0] > 120))
+    columns = np.flatnonzero(grey[120:200].any(axis=0))
+    assert len(np.split(columns, np.flatnonzero(np.diff(columns) > 3) + 1)) == 4  # all four
+    renderer.update_scene(snap.scene.with_value("cloth.size", 2.0))  # what is drawn moves
+    x0, x1 = poles.actor.mapper.GetInput().GetBounds()[:2]
+    assert x1 - x0 > 2.0
+    renderer.update_scene(snap.scene)
