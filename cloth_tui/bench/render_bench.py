@@ -30,7 +30,7 @@ def preview_sizes() -> list[tuple[str, tuple[int, int]]]:
     cell = f"{PIXEL_CELL_PX[0]}×{PIXEL_CELL_PX[1]} px cells"
     return [(f"blocks preview {term}", (SCALE * cols, SCALE * 2 * rows)),
             (f"kitty preview {term}, {cell}", render_size(cols, rows, PIXEL_CELL_PX, "kitty")),
-            ("reference", REFERENCE_SIZE)]
+            ("reference: earlier runs' size", REFERENCE_SIZE)]
 
 
 def _snapshots(resolution: int):
