@@ -10,6 +10,7 @@ import json
 import sys
 
 from . import breakdown as bd
+from .render_bench import format_rows as format_render_rows
 from .step_bench import bare_scene, bench_frames_per_second, bench_step, busy_core, machine
 
 FRAME_SHEET = 256  # the frames-per-second target's sheet: 4 substeps × 4 iterations
@@ -164,13 +165,18 @@ def format_report(r: dict) -> str:
         for e in b["effects"]:
             out.append(f"  {e['effect']:<28} {e['ms_per_frame']:>8.3f} ms/frame "
                        f"{e['share']:>6.1%}")
-    for key, title in (("render", "Render"), ("frame_pipeline", "Frame pipeline")):
+    for key, title in (("render", "Render (Renderer.render: mesh update, draw, read-back, "
+                                  "anti-aliasing), ms per frame, wall and CPU"),
+                       ("frame_pipeline", "Frame pipeline")):
         if key not in r:
             continue
         rows = r[key]
         out += ["", title]
         if isinstance(rows, dict):
             out.append(f"  unavailable: {rows.get('unavailable')}")
+            continue
+        if key == "render":
+            out += ["  " + line for line in format_render_rows(rows).splitlines()]
             continue
         for row in rows:
             out.append("  " + ", ".join(f"{k}={v:.2f}" if isinstance(v, float) else f"{k}={v}"

@@ -12,9 +12,25 @@ import statistics
 import time
 
 SHEETS = (26, 128, 256)
-PREVIEW_SIZE = (640, 384)  # a true-pixel preview's order of size (issue 17's target size)
-SIZES = (PREVIEW_SIZE, (640, 480))
+TERMINAL = (160, 48)         # the terminal issue 17 measures the app in (tmux)
+PREVIEW_CELLS = (114, 45)    # the app's preview widget there (tests/bench checks it)
+PIXEL_CELL_PX = (10, 20)     # a typical cell, and the app's guess when the terminal tells none
+REFERENCE_SIZE = (640, 384)  # the size earlier bench runs (and the README) used
 SETTLE_FRAMES = 20
+
+
+def preview_sizes() -> list[tuple[str, tuple[int, int]]]:
+    """The pixel sizes the app renders its live preview at in a TERMINAL-sized terminal, as
+    the preview widgets ask the renderer for them, labelled; then REFERENCE_SIZE."""
+    from ..tui.pixel_preview import render_size
+    from ..tui.preview import SCALE
+
+    cols, rows = PREVIEW_CELLS
+    term = f"{TERMINAL[0]}×{TERMINAL[1]}"
+    cell = f"{PIXEL_CELL_PX[0]}×{PIXEL_CELL_PX[1]} px cells"
+    return [(f"blocks preview {term}", (SCALE * cols, SCALE * 2 * rows)),
+            (f"kitty preview {term}, {cell}", render_size(cols, rows, PIXEL_CELL_PX, "kitty")),
+            ("reference: earlier runs' size", REFERENCE_SIZE)]
 
 
 def _snapshots(resolution: int):
@@ -43,18 +59,20 @@ def time_frames(renderer, snaps, blocks: int, per_block: int) -> tuple[list, lis
     return wall, cpu
 
 
-def bench_render(quick: bool = False, sheets=SHEETS, sizes=SIZES) -> list[dict]:
-    """ms per frame for each sheet × image size: medians over timed blocks after a warm-up,
-    with the fastest and slowest block's wall time as the spread."""
+def bench_render(quick: bool = False, sheets=SHEETS, views=None) -> list[dict]:
+    """ms per frame for each sheet × labelled image size (`views`: (label, (w, h)) pairs,
+    by default preview_sizes()): medians over timed blocks after a warm-up, with the
+    fastest and slowest block's wall time as the spread."""
     from ..render.renderer import Renderer
 
+    views = preview_sizes() if views is None else list(views)
     blocks, per_block = (3, 5) if quick else (7, 10)
     rows = []
     for n in sheets:
         scene, snaps = _snapshots(n)
-        renderer = Renderer(scene, sizes[0])
+        renderer = Renderer(scene, views[0][1])
         try:
-            for w, h in sizes:
+            for view, (w, h) in views:
                 renderer.resize(w, h)
                 renderer.reset_camera()
                 for k in range(3):  # warm-up: shader compilation, buffer allocation
@@ -64,6 +82,7 @@ def bench_render(quick: bool = False, sheets=SHEETS, sizes=SIZES) -> list[dict]:
                     "bench": "render",
                     "resolution": n,
                     "particles": n * n,
+                    "view": view,
                     "size": f"{w}x{h}",
                     "ms_per_frame": round(statistics.median(wall), 3),
                     "cpu_ms_per_frame": round(statistics.median(cpu), 3),
@@ -78,10 +97,12 @@ def bench_render(quick: bool = False, sheets=SHEETS, sizes=SIZES) -> list[dict]:
 
 
 def format_rows(rows: list[dict]) -> str:
-    lines = [f"{'sheet':>9} {'image':>9} {'ms/frame':>9} {'cpu ms':>7} {'min':>7} {'max':>7}"]
+    width = max([len(r["view"]) for r in rows] + [4])
+    lines = [f"{'sheet':>9} {'view':<{width}} {'image':>9} {'ms/frame':>9} {'cpu ms':>7} "
+             f"{'min':>7} {'max':>7}"]
     for r in rows:
-        lines.append(f"{r['resolution']:>4}x{r['resolution']:<4} {r['size']:>9} "
-                     f"{r['ms_per_frame']:>9.2f} {r['cpu_ms_per_frame']:>7.2f} "
+        lines.append(f"{r['resolution']:>4}x{r['resolution']:<4} {r['view']:<{width}} "
+                     f"{r['size']:>9} {r['ms_per_frame']:>9.2f} {r['cpu_ms_per_frame']:>7.2f} "
                      f"{r['ms_min']:>7.2f} {r['ms_max']:>7.2f}")
     return "\n".join(lines)
 

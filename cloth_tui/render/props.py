@@ -11,6 +11,7 @@ from .geometry import AMBIENT, GROUND_DIFFUSE, flat_ground_light, fog_factor, he
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge
 FOG_NEAR, FOG_FAR = 2.0, 11.0  # m from the centre: the original's fog, scaled to its camera
 POLE_COLOR = "#c8c8c8"
+POLE_SIDES = 8
 OBJECT_COLOR = "#e8e3d8"
 OBJECT_OPACITY = 0.55
 PLANE_HALF = 0.9  # m: shown extent of an (infinite) collision plane, about the sheet's
@@ -19,6 +20,8 @@ GRID_STEP = 0.5       # m between grid lines on the untextured ground (the textu
 GRID_HALF = 6.0       # m: the grid's half-width; fog has nearly hidden the ground there
 GRID_LIFT = 0.002     # m above the floor: over the ground and the cloth's shadow
 GRID_SHADE = 0.8      # grid line colour = ground colour × this: subtle, but height reads
+FOG_TOLERANCE = 0.004  # the ground's drawn fog within this of fog_factor (< 1 colour level)
+GROUND_SECTORS = 48    # around the ground disc: its fog's rings stay round
 
 
 class Ground:
@@ -33,9 +36,7 @@ class Ground:
 
     def __init__(self, pv, plotter):
         self.pv = pv
-        # coarse: software GL pays per triangle (40×96 rings cost 1 ms more per frame)
-        disc = pv.Disc(inner=0.0, outer=GROUND_RADIUS, normal=(0, 1, 0), r_res=20, c_res=48)
-        self.mesh = disc.triangulate()
+        self.mesh = fog_disc(pv)
         pts = np.asarray(self.mesh.points)
         self.base_xz = pts[:, [0, 2]].copy()  # for a 1 m sheet; scaled with the sheet
         self.ground_fog = fog_factor(np.hypot(pts[:, 0], pts[:, 2]), FOG_NEAR, FOG_FAR)
@@ -123,6 +124,46 @@ class Ground:
         self.grid.Modified()
 
 
+def fog_ring_radii(tolerance: float = FOG_TOLERANCE) -> np.ndarray:
+    """Radii (m, for a 1 m sheet) from FOG_NEAR to FOG_FAR at which the ground's fog, drawn
+    linearly between them, is within `tolerance` of fog_factor: dense where the curve bends
+    (just past FOG_NEAR), sparse where it is nearly straight."""
+    def straight_enough(a: float, b: float) -> bool:
+        r = np.linspace(a, b, 1024)
+        f = fog_factor(r, FOG_NEAR, FOG_FAR)
+        return np.abs(f[0] + (f[-1] - f[0]) * (r - a) / (b - a) - f).max() <= tolerance
+
+    radii = [FOG_NEAR]
+    while not straight_enough(radii[-1], FOG_FAR):
+        lo, hi = radii[-1], FOG_FAR  # bisect for the farthest next ring
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if straight_enough(radii[-1], mid) else (lo, mid)
+        radii.append(lo)
+    return np.array(radii + [FOG_FAR])
+
+
+def fog_disc(pv):
+    """The ground as a disc on y = 0 out to FOG_FAR, where the fog has reached the background
+    colour (beyond, the ground would be drawn in the background's own colour): one fan to
+    FOG_NEAR, inside which the ground is one colour, then rings at fog_ring_radii. Software
+    GL pays for a large triangle by the tiles it crosses: 20 even rings to 14 m (1,872
+    triangles) cost ~1 ms more per frame at 882×696 than these."""
+    radii = fog_ring_radii()
+    angles = np.linspace(0.0, 2 * np.pi, GROUND_SECTORS, endpoint=False)
+    ring_xz = radii[:, None, None] * np.stack([np.cos(angles), np.sin(angles)], -1)[None]
+    xz = np.concatenate([[[0.0, 0.0]], ring_xz.reshape(-1, 2)])
+    points = np.c_[xz[:, 0], np.zeros(len(xz)), xz[:, 1]]
+    k = np.arange(GROUND_SECTORS)
+    k1 = (k + 1) % GROUND_SECTORS
+    tris = [np.c_[np.zeros_like(k), 1 + k1, 1 + k]]  # the fan, facing up (+y)
+    for ring in range(len(radii) - 1):
+        a, b = 1 + ring * GROUND_SECTORS, 1 + (ring + 1) * GROUND_SECTORS
+        tris += [np.c_[a + k, a + k1, b + k], np.c_[a + k1, b + k1, b + k]]
+    tris = np.concatenate(tris)
+    return pv.PolyData(points, np.c_[np.full(len(tris), 3), tris].ravel())
+
+
 def grid_lines(pv, half: float, step: float):
     """Lines every `step` m across a square of half-width `half` on the plane y = 0, each cut
     into `step`-long segments so the fog baked into their colours varies along them."""
@@ -145,6 +186,12 @@ class Poles:
         self.mesh = pv.PolyData()
         self.actor = plotter.add_mesh(self.mesh, color=POLE_COLOR, ambient=0.35, diffuse=0.8,
                                       specular=0.2, reset_camera=False)
+        # Few sides, smooth-shaded (by the cylinders' own normals: add_mesh's smooth_shading
+        # would draw a copy that update() never reaches), back faces culled: long thin
+        # slivers spanning many of software GL's tiles cost it more than their pixels (16
+        # flat sides: ~2 ms at 882×696)
+        self.actor.prop.interpolation = "phong"
+        self.actor.prop.culling = "back"  # closed solids: their insides never show
         self.key = None
 
     def update(self, scene) -> None:
@@ -159,7 +206,7 @@ class Poles:
             return
         half, r = c.size / 2, max(0.006, 0.008 * c.size)
         poles = [self.pv.Cylinder(center=(x, 0.5 * (top + bottom), z), direction=(0, 1, 0),
-                                  radius=r, height=top - bottom, resolution=16)
+                                  radius=r, height=top - bottom, resolution=POLE_SIDES)
                  for x in (-half, half) for z in (-half, half)]
         self.mesh.copy_from(poles[0].append_polydata(*poles[1:]))
         self.actor.SetVisibility(True)

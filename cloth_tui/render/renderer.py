@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from ..sim.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
-from .antialias import antialias
+from .antialias import antialias_bottom_up
 from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        drawable, family_colors, hex_rgb, pick_nearest, triangle_edges,
@@ -32,7 +32,7 @@ HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visi
 HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
 FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
-MIN_CELL_PX = 1.0          # grid cells drawn at least this wide on screen (see _detail_stride)
+MIN_CELL_PX = 2.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
 
@@ -55,7 +55,7 @@ class Renderer:
         # FXAA pass 12 ms at 640x384: anti-aliasing is a compiled pass over the picture read
         # back instead (antialias.py).
         self.plotter.ren_win.SetMultiSamples(0)
-        self._pixels = pv.convert_array(np.zeros(0, np.uint8))  # read_pixels' buffer, kept
+        self._pixels = pv.convert_array(np.zeros(0, np.uint8))  # _read_rgba's buffer, kept
         # Both sides of the sheet lit, each by the lights on its side (VTK flips a back
         # face's normal); the underside also has a darker shade of the colour (_style_cloth).
         self.plotter.renderer.SetTwoSidedLighting(True)
@@ -226,9 +226,11 @@ class Renderer:
 
     def _detail_stride(self) -> int:
         """How many grid rows one drawn row spans: 1 unless the sheet's cells would be
-        narrower than MIN_CELL_PX on screen (at 640×384 a 256² sheet's are 0.9 px), where
-        software GL spends its time setting up triangles nobody can see. The wireframe is
-        always drawn whole: it shows the mesh itself."""
+        narrower than MIN_CELL_PX on screen (at 640×384 a 128² sheet's are 1.9 px, a
+        256²'s 0.9 px). Software GL pays per triangle, not per pixel, for triangles this
+        small (each is set up and shaded in at least one 4×4 block: a 128² sheet's 32k
+        triangles were 60 % of a 640×384 frame); what thinning loses, creases a few pixels
+        wide, hardly shows. The wireframe is always drawn whole: it shows the mesh itself."""
         if self._scene.appearance.wireframe or self._model.n < 3:
             return 1
         half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
@@ -348,16 +350,22 @@ class Renderer:
         # The window itself, not plotter.render(): that one skips the first frame until a
         # screenshot has run PyVista's first-render camera reset, which our camera never needs.
         self.plotter.ren_win.Render()
-        return antialias(self.read_pixels())
+        return antialias_bottom_up(self._read_rgba())
+
+    def _read_rgba(self) -> np.ndarray:
+        """The drawn picture as GL holds it: (H, W, 4) uint8, rows from the bottom, in one
+        kept vtkUnsignedCharArray (valid until the next render). From the front buffer, as
+        plotter.screenshot reads it, but RGBA: Mesa copies that straight out (0.07 ms at
+        882×696) where RGB goes through a conversion (0.6 ms)."""
+        w, h = self.size
+        self.plotter.ren_win.GetRGBACharPixelData(0, 0, w - 1, h - 1, 1, self._pixels, 0)
+        return self.pv.convert_array(self._pixels).reshape(h, w, 4)
 
     def read_pixels(self) -> np.ndarray:
         """The drawn picture, unsmoothed, as an (H, W, 3) uint8 view of a buffer reused every
-        frame (valid until the next render); rows from the top. Read from the front buffer,
-        as plotter.screenshot does, but into one kept vtkUnsignedCharArray: the screenshot
-        built an image filter and copied and flipped the picture twice per frame."""
-        w, h = self.size
-        self.plotter.ren_win.GetPixelData(0, 0, w - 1, h - 1, 1, self._pixels, 0)
-        return self.pv.convert_array(self._pixels).reshape(h, w, 3)[::-1]
+        frame (valid until the next render); rows from the top. The screenshot's pixels
+        (plotter.screenshot builds an image filter and copies and flips them twice)."""
+        return self._read_rgba()[::-1, :, :3]
 
     def pick(self, u: float, v: float) -> int | None:
         """The particle drawn nearest the image point (u, v), both 0..1 from the top-left;

@@ -105,3 +105,48 @@ def test_cells_smaller_than_a_pixel_are_drawn_thinned_and_look_the_same(renderer
     wire = draped(scene_with(wireframe=True).with_value("cloth.resolution", 128))
     fresh(renderer, wire, size=(160, 120))
     assert renderer.cloth.n_cells == len(snap.model.triangles)  # the wireframe shows all
+
+
+def test_cells_under_two_pixels_are_drawn_thinned_and_narrow_folds_still_show(renderer,
+                                                                             monkeypatch):
+    """At 640×384 a 128² sheet's cells are 1.9 px: software GL pays per triangle there, so
+    every other row is drawn (a quarter of the triangles), and folds three cells wide look
+    as they do with every triangle."""
+    import cloth_tui.render.renderer as renderer_module
+
+    scene = scene_with(wireframe=False).with_value("cloth.resolution", 128)
+    snap = draped(scene)
+    x = snap.positions.copy()
+    x[:, 1] += 0.004 * np.sin(2 * np.pi * x[:, 0] / (6 * snap.model.spacing))
+    folded = with_positions(snap, x)
+    thinned = fresh(renderer, folded, size=(640, 384)).astype(int)
+    assert renderer.cloth.n_cells <= len(snap.model.triangles) // 3
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle
+    whole = renderer.render(folded).astype(int)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    assert np.abs(thinned - whole).mean() < 0.5
+    mask, shade = cloth_red(whole.astype(np.uint8))
+    assert mask.sum() > 10000 and shade.std() > 20  # the folds' light and shade
+    assert np.corrcoef(thinned[..., 0][mask], shade)[0, 1] > 0.95
+
+
+def test_the_poles_are_smooth_closed_solids_of_few_sides(renderer):
+    """Software GL pays for the poles' long thin sides by the tiles they cross, not by their
+    pixels: few sides, smooth-shaded so they still read as round, back faces culled."""
+    from cloth_tui.render.props import POLE_SIDES
+
+    snap = draped(scene_with(wireframe=False))
+    fresh(renderer, snap, size=(320, 240))
+    poles = renderer.poles
+    assert POLE_SIDES <= 8 and poles.mesh.n_cells == 4 * (POLE_SIDES + 2)  # sides, two caps
+    assert poles.actor.prop.GetBackfaceCulling()
+    assert poles.actor.prop.interpolation.name.lower() in ("phong", "gouraud")
+    img = fresh(renderer, with_positions(snap, snap.positions + [40.0, 0.0, 0.0])).astype(int)
+    grey = ((np.abs(img[..., 0] - img[..., 1]) < 10) & (np.abs(img[..., 1] - img[..., 2]) < 10)
+            & (img[..., 0] > 120))
+    columns = np.flatnonzero(grey[120:200].any(axis=0))
+    assert len(np.split(columns, np.flatnonzero(np.diff(columns) > 3) + 1)) == 4  # all four
+    renderer.update_scene(snap.scene.with_value("cloth.size", 2.0))  # what is drawn moves
+    x0, x1 = poles.actor.mapper.GetInput().GetBounds()[:2]
+    assert x1 - x0 > 2.0
+    renderer.update_scene(snap.scene)
