@@ -141,3 +141,24 @@ def test_plot_and_dump_into_a_folder_that_refuses_files_exit_2():
                  ["accuracy", "--quick", "--plot", "/sys/x.png"]):
         rc, out, err = run(*args)
         assert rc == 2 and "Permission denied" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_command_keeps_numpys_blas_on_one_thread():
+    # OpenBLAS's second thread busy-waits between calls (40 % of a core in the app at 256²);
+    # the command sets its limit before NumPy loads, unless the user chose one.
+    import os
+
+    probe = ("import ctypes, sys\n"
+             "from cloth_tui.cli import main\n"
+             "main(['simulate', 'default', '--frames', '1'])\n"
+             "lib = sorted({l.split()[-1] for l in open('/proc/self/maps') if 'openblas' in l})\n"
+             "print('THREADS', ctypes.CDLL(lib[0]).scipy_openblas_get_num_threads64_())\n")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "THREADS 1" in out.stdout
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         env=env, timeout=120)
+    assert "THREADS 2" in out.stdout
