@@ -86,6 +86,7 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
         self.renderer_factory = renderer_factory or default_renderer_factory
         self.start_paused = start_paused
         self._freeze_gc = freeze_gc  # after the first frame: start-up done
+        self._preview_widget: Preview | None = None
         self._halt_told: str | None = None  # the runner's halt reason already notified
         self.readout = Readout()
         if graphics is not None:  # shown in the status line when it was chosen
@@ -133,6 +134,13 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
     @property
     def preview(self) -> Preview:
         return self.query_one(Preview)
+
+    def _shown_preview(self) -> Preview | None:
+        """The mounted preview, found once: a query walks the whole DOM (~2 ms a frame of
+        the UI thread with the panels' widgets)."""
+        if self._preview_widget is None or not self._preview_widget.is_attached:
+            self._preview_widget = next(iter(self.query(Preview)), None)
+        return self._preview_widget
 
     @property
     def controls(self) -> Controls:
@@ -212,11 +220,11 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
     def on_frame_ready(self, _: FrameReady) -> None:
         self._frame_posted = False
         frame = self._frame_box
-        previews = self.query(Preview)
-        if frame is None or not previews:
+        preview = self._shown_preview()
+        if frame is None or preview is None:
             return
         t0 = time.perf_counter()
-        previews.first().show_image(frame.image)
+        preview.show_image(frame.image)
         self.readout.on_frame(frame.render_ms)
         if self._debug is not None:
             self._debug.write(f"{t0:.4f} frame {frame.frame} render_ms {frame.render_ms:.2f} "

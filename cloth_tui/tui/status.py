@@ -10,6 +10,7 @@ from collections import deque
 
 from textual.app import ComposeResult
 from textual.containers import Horizontal, Vertical
+from textual.content import Content
 from textual.widgets import Sparkline, Static
 
 # An xpbd residual (m) below this is not worth a place on the status line.
@@ -166,6 +167,7 @@ class StatusBar(Vertical):
     """
 
     def compose(self) -> ComposeResult:
+        self._cost_width = 0
         self._text = Static("starting…", id="status-text")
         self._cost = Static("", id="cost-text")
         self._spark = Sparkline([0.0], id="ms-spark", summary_function=max)
@@ -176,6 +178,11 @@ class StatusBar(Vertical):
             yield self._spark
 
     def show(self, text: tuple[str, str], history) -> None:
-        self._text.update(text[0])
-        self._cost.update(text[1])
+        # A layout pass of the whole screen held the UI thread ~14 ms (and with it the GIL the
+        # simulation thread needs between kernels) five times a second: only the cost text's
+        # width can move the layout, so only a change of its width asks for one.
+        self._text.update(text[0], layout=False)
+        width = Content.from_markup(text[1]).cell_length
+        self._cost.update(text[1], layout=width != self._cost_width)
+        self._cost_width = width
         self._spark.data = list(history)
