@@ -88,3 +88,23 @@ def test_input_text_parsing():
     assert parse_text("cloth.resolution", "1.5") == 1.5  # refused later: not an integer
     assert parse_text("cloth.size", "abc") == "abc"
     assert format_value([1.0, 0.0, 0.5]) == "1, 0, 0.5" and format_value(1e-8) == "1e-08"
+
+
+def test_unchanged_rows_keep_their_strips_and_the_picture_is_the_same():
+    from cloth_tui.tui.preview import RowCache
+
+    rng = np.random.default_rng(3)
+    a = rng.integers(0, 256, size=(16, 8, 3), dtype=np.uint8)
+    b = a.copy()
+    b[4:6] = 255 - b[4:6]  # changes terminal row 2 (pixel rows 4 and 5) only
+    styles, cache = StyleCache(), RowCache()
+    first = image_to_strips(a, 8, 8, styles, cache=cache)
+    second = image_to_strips(b, 8, 8, styles, crosshair=(1, 5), cache=cache)
+    fresh = image_to_strips(b, 8, 8, StyleCache(), crosshair=(1, 5))
+    assert [s.text for s in second] == [s.text for s in fresh]
+    assert [[seg.style for seg in s] for s in second] == [[seg.style for seg in s]
+                                                         for s in fresh]
+    kept = [r for r in range(8) if second[r] is first[r]]
+    assert kept == [0, 1, 3, 4, 6, 7]  # row 2 changed; row 5 carries the crosshair
+    third = image_to_strips(b, 8, 8, styles, cache=cache)
+    assert third[5] is first[5] and CROSSHAIR not in third[5].text  # kept without the mark
