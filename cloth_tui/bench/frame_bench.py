@@ -9,15 +9,15 @@ from __future__ import annotations
 import statistics
 import time
 
-# The preview of a 160×48 terminal: about 112 × 44 cells, each 1×2 pixels, drawn by the
-# renderer at SCALE times that and averaged down, as the app does.
-PREVIEW_CELLS = (112, 44)
+# The preview of a 160×48 terminal (render_bench's, checked against the app by a test):
+# cells of 1×2 pixels, drawn by the renderer at SCALE times that and averaged down.
+from .render_bench import PREVIEW_CELLS
 
 
 def bench_frames(quick: bool = False) -> list[dict]:
     from ..render.renderer import Renderer
     from ..scene_files import load
-    from ..tui.preview import SCALE, StyleCache, image_to_strips
+    from ..tui.preview import SCALE, RowCache, StyleCache, image_to_strips
 
     cols, rows = PREVIEW_CELLS
     width, height = cols * SCALE, 2 * rows * SCALE
@@ -35,11 +35,12 @@ def bench_frames(quick: bool = False) -> list[dict]:
             scene = scene.with_value(k, v)
         sim = Simulation(scene)
         renderer = Renderer(scene, (width, height))
-        styles = StyleCache()
+        styles, rows_kept = StyleCache(), RowCache()  # as the app's preview keeps them
         try:
             for _ in range(5):  # warm-up: kernels, shaders, style cache
                 sim.advance_frame()
-                image_to_strips(renderer.render(sim.snapshot()), cols, rows, styles)
+                image_to_strips(renderer.render(sim.snapshot()), cols, rows, styles,
+                                cache=rows_kept)
             sim_t, render_t, encode_t = [], [], []
             for _ in range(frames):
                 t0 = time.perf_counter()
@@ -48,7 +49,7 @@ def bench_frames(quick: bool = False) -> list[dict]:
                 t1 = time.perf_counter()
                 image = renderer.render(snap)
                 t2 = time.perf_counter()
-                image_to_strips(image, cols, rows, styles)
+                image_to_strips(image, cols, rows, styles, cache=rows_kept)
                 t3 = time.perf_counter()
                 sim_t.append(t1 - t0)
                 render_t.append(t2 - t1)
