@@ -9,9 +9,11 @@ is used only while it measurably wins, and contention sends the choice back to s
   thread got less than CONTENDED_CPU_SHARE of the wall time, the machine has no idle core;
 - a parallel call slower than SLOWER_BY × the serial estimate switches back immediately;
 - the parallel kernel is re-tried after a backoff that doubles each time it loses, and only
-  while a core is idle now (the kernel's count of runnable threads, this one included, is
-  below the cores) and on average (the 1-minute load average lags a new busy process by
-  tens of seconds, and a losing try under load costs 10–100 ms);
+  while a core is idle now: the kernel's count of runnable threads, this one included, is
+  below the cores (a losing try under load costs 10–100 ms). The 1-minute load average,
+  used only where that count is unknown, lags a new busy process by tens of seconds and
+  counts this process's own two threads: on it, the 256² bench stopped trying two threads
+  after running on them;
 CLOTH_TUI_THREADS=1 (environment) or `force_single_thread(True)` (the app's key) keeps
 everything on one thread.
 """
@@ -80,11 +82,12 @@ def runnable_now() -> int | None:
 
 
 def spare_core() -> bool:
-    """Whether the machine has a core nobody else wants, now and on average."""
+    """Whether the machine has a core nobody else wants now (on average, where the count of
+    runnable threads is unknown)."""
     cores = usable_cores()
     running = runnable_now()
-    if running is not None and running >= cores:
-        return False
+    if running is not None:
+        return running < cores
     return load_average() < cores - 0.5
 
 

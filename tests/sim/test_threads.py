@@ -93,6 +93,8 @@ def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch
 
 
 def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
+    # where the instant count of runnable threads is unknown (not Linux)
+    monkeypatch.setattr(threads, "runnable_now", lambda: None)
     monkeypatch.setattr(threads, "load_average", lambda: 3.0)
     serial, parallel = Recorder("s", 0.002), Recorder("p")
     choice = threads.KernelChoice(serial, parallel)
@@ -110,6 +112,17 @@ def test_no_parallel_try_while_another_thread_is_running_now(monkeypatch):
     for _ in range(40):
         choice()
     assert parallel.calls == 0
+
+
+def test_a_busy_past_minute_does_not_stop_tries_while_a_core_is_idle_now(monkeypatch):
+    # The load average counts this process's own parallel runs of the last minute: it must
+    # not keep the parallel kernel from being tried once the cores are free again.
+    monkeypatch.setattr(threads, "load_average", lambda: 2.0)
+    serial, parallel = Recorder("s", 0.002), Recorder("p")
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(40):
+        choice()
+    assert parallel.calls > 0
 
 
 def test_runnable_now_counts_at_least_the_caller():
