@@ -8,9 +8,10 @@ is used only while it measurably wins, and contention sends the choice back to s
 - the serial kernel's thread CPU time against its wall time shows preemption: when the
   thread got less than CONTENDED_CPU_SHARE of the wall time, the machine has no idle core;
 - a parallel call slower than SLOWER_BY × the serial estimate switches back immediately;
-- the parallel kernel is re-tried after a backoff that doubles each time it loses, and only
-  while a core is idle now: the kernel's count of runnable threads, this one included, is
-  below the cores (a losing try under load costs 10–100 ms). The 1-minute load average,
+- the parallel kernel is re-tried after a backoff that doubles each time it loses (but is
+  never longer than MAX_WAIT_S), and only while a core is idle now: the kernel's count of
+  runnable threads, this one included, is below the cores (a losing try under load costs
+  10–100 ms). The 1-minute load average,
   used only where that count is unknown, lags a new busy process by tens of seconds and
   counts this process's own two threads: on it, the 256² bench stopped trying two threads
   after running on them;
@@ -20,6 +21,7 @@ everything on one thread.
 
 from __future__ import annotations
 
+import math
 import os
 import time
 from typing import Callable
@@ -30,6 +32,9 @@ SLOWER_BY = 1.5
 WINS_BY = 0.85   # parallel must take under this share of the serial time to be chosen
 FIRST_PROBE = 8  # calls before the parallel kernel is first tried
 MAX_BACKOFF = 4096  # calls between tries of a losing parallel kernel
+# s: and at most this long: after one unlucky loss on a quiet machine, 4,096 calls of a 256²
+# sheet's projection would keep it on one thread for ~16 s.
+MAX_WAIT_S = 1.0
 SMOOTHING = 0.2  # weight of the newest timing in a running estimate
 
 _forced_single = False
@@ -112,6 +117,7 @@ class KernelChoice:
         self.parallel_calls = 0
         self.backoff = FIRST_PROBE
         self.next_probe = FIRST_PROBE
+        self.next_probe_t = math.inf  # or this perf_counter time, whichever comes first
         self.contended = False  # the serial kernel was last seen preempted
 
     @property
@@ -131,11 +137,13 @@ class KernelChoice:
             return
         if self.use_parallel:
             self._run_parallel(args)
-        elif self.calls >= self.next_probe and not self.contended and self.serial_s \
-                and spare_core():
+        elif self._probe_due() and not self.contended and self.serial_s and spare_core():
             self._run_parallel(args)
         else:
             self._run_serial(args)
+
+    def _probe_due(self) -> bool:
+        return self.calls >= self.next_probe or time.perf_counter() >= self.next_probe_t
 
     def _run_serial(self, args) -> None:
         w0, c0 = time.perf_counter(), time.thread_time()
@@ -157,9 +165,11 @@ class KernelChoice:
             self.use_parallel = False
             self.backoff = min(2 * self.backoff, MAX_BACKOFF)
             self.next_probe = self.calls + self.backoff
+            self.next_probe_t = time.perf_counter() + MAX_WAIT_S
         else:
             self.use_parallel = True
             self.backoff = FIRST_PROBE
+            self.next_probe_t = math.inf
             if self.calls % 64 == 0:
                 self.use_parallel = False  # a serial call now and then keeps its estimate fresh
                 self.next_probe = self.calls + 2

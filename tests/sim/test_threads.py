@@ -68,6 +68,22 @@ def test_losing_parallel_kernel_is_tried_ever_more_rarely():
     assert choice.threads == 1 and choice.kernel_name == "s"
 
 
+def test_a_losing_parallel_kernel_is_tried_again_within_max_wait(monkeypatch):
+    # After a loss the backoff counts calls, but a quiet machine must not stay on one thread
+    # for long because of one unlucky try: a try is due again after MAX_WAIT_S at the most.
+    monkeypatch.setattr(threads, "MAX_WAIT_S", 0.05)
+    serial, parallel = Recorder("s", 0.001), Recorder("p", 0.02)
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(12):
+        choice()
+    assert parallel.calls == 1  # tried after FIRST_PROBE calls and lost
+    tries = parallel.calls
+    end = time.perf_counter() + 0.3
+    while time.perf_counter() < end:
+        choice()
+    assert parallel.calls - tries >= 3  # ~every 50 ms, not after 16, 32, 64… calls
+
+
 def test_one_core_means_serial(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 1)
     serial, parallel = Recorder("s"), Recorder("p")
