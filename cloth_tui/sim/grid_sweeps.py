@@ -191,9 +191,10 @@ def coincident_direction(a, b):
 @kernel(inline="always")
 def _pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t):
     """One projection (xpbd.py's update) of pair t of a run. Branch-free, so a run
-    vectorises: a pinned, torn or padding pair (alive 0) gets a zero correction instead of
-    an early exit. Coincident ends (no direction of their own) are left to `_crushed_pair`.
-    λ is always written; PBD passes a scratch array."""
+    vectorises: a pair of pinned ends (w 0) or a torn or padding one (alive 0) gets a zero
+    correction instead of an early exit. Coincident ends (no direction of their own) are
+    left to `_crushed_pair`. λ (scratch in slot order) is always written; only XPBD's is
+    kept, by `_end`."""
     wa = wa_run[t]
     wb = wb_run[t]
     dx = xb[t] - xa[t]
