@@ -89,7 +89,7 @@ def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.n
     w_grid = np.zeros(plane)
     w_grid[grid_offset] = inv_mass
 
-    colors = _edge_colors(edges, n)
+    colors = grid_colors(edges, n)
     for lo, hi in zip(color_offsets[:-1], color_offsets[1:]):
         if len(set(colors[lo:hi].tolist())) != 1:
             raise ValueError("the model's colours are not the grid sweeps' colours")
@@ -143,8 +143,11 @@ def _runs(c: int, n: int, w: int, block: int):
                        + t[0], np.where(real, ia * n + ja, -1), np.where(real, ib * n + jb, -1))
 
 
-def _edge_colors(edges: np.ndarray, n: int) -> np.ndarray:
-    """The sweeps' colour of each constraint; ValueError for one between far particles."""
+def grid_colors(edges: np.ndarray, n: int) -> np.ndarray:
+    """The colour (0–11) of each grid constraint: 2 per offset, by the parity of its first
+    particle's row or column (of its half, for bending). No two constraints of one colour
+    share a particle, so a colour can be projected in parallel without races (Gauss-Seidel
+    between colours). ValueError for a constraint between far particles."""
     a, b = edges[:, 0], edges[:, 1]
     ia, ja, di, dj = a // n, a % n, b // n - a // n, b % n - a % n
     colors = np.full(len(edges), -1, np.int64)

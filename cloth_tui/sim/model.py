@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .grid_sweeps import grid_colors
 
 FAMILIES = ("structural", "shear", "bending")
 STRUCTURAL, SHEAR, BENDING = 0, 1, 2
@@ -66,28 +67,6 @@ def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, n
     if not pairs:
         return np.zeros((0, 2), np.int64), np.zeros(0, np.int8)
     return np.concatenate(pairs).astype(np.int64), np.concatenate(fam)
-
-
-def _color_edges_grid(edges: np.ndarray, family: np.ndarray, n: int) -> np.ndarray:
-    """Closed-form colouring for grid constraints: 2 colours per direction, 12 in all.
-    No two constraints of one colour share a particle, so a colour can be projected in
-    parallel without races (Gauss-Seidel between colours)."""
-    a, b = edges[:, 0], edges[:, 1]
-    ia, ja, ib, jb = a // n, a % n, b // n, b % n
-    color = np.empty(len(edges), np.int64)
-    horiz = ia == ib
-    vert = ja == jb
-    diag = (ib == ia + 1) & (jb == ja + 1)
-    anti = (ib == ia + 1) & (jb == ja - 1)
-    s = family == STRUCTURAL
-    bend = family == BENDING
-    color[s & horiz] = ja[s & horiz] % 2
-    color[s & vert] = 2 + ia[s & vert] % 2
-    color[diag] = 4 + ia[diag] % 2
-    color[anti] = 6 + ia[anti] % 2
-    color[bend & horiz] = 8 + (ja[bend & horiz] // 2) % 2
-    color[bend & vert] = 10 + (ia[bend & vert] // 2) % 2
-    return color
 
 
 def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> np.ndarray:
@@ -182,7 +161,7 @@ def build_model(cloth, behavior) -> ClothModel:
 
     families = (behavior.structural, behavior.shear, behavior.bending)
     edges, family = grid_edges(n, families)
-    colors = _color_edges_grid(edges, family, n)
+    colors = grid_colors(edges, n)
     order = np.argsort(colors, kind="stable")
     edges, family, colors = edges[order], family[order], colors[order]
     counts = np.bincount(colors, minlength=12) if len(colors) else np.zeros(0, np.int64)
