@@ -39,7 +39,9 @@ def test_e_starts_and_stops_a_bake_that_reads_back(tmp_path):
             await until(pilot, lambda: app.bake.recorder is None, timeout=20,
                         what="bake saved")
             assert "● USD" not in str(app.query_one("#status-text").render())
-            assert any(m.startswith("Bake saved") for m in notifications(app))
+            # the notice is a message the app handles after the status line saw the save
+            await until(pilot, lambda: any(m.startswith("Bake saved") for m in notifications(app)),
+                        what="'Bake saved' notice")
             (path,) = _bakes(app)
             assert path == recorder.path
             stage, points = _read(path)

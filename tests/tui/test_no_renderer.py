@@ -39,7 +39,8 @@ def test_app_without_gl_simulates_and_says_there_is_no_preview(tmp_path, no_gl):
                         what="'no preview' in the status line")
             assert "libegl-mesa0" in _preview_text(app)
             assert "waiting for the renderer" not in _preview_text(app)
-            assert any("No preview" in n for n in notifications(app))
+            await until(pilot, lambda: any("No preview" in n for n in notifications(app)),
+                        what="'No preview' notice")
             frame = app.sim.latest.frame
             await until(pilot, lambda: app.sim.latest.frame > frame + 10, timeout=30,
                         what="the simulation running on")

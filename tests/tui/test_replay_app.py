@@ -126,7 +126,8 @@ def test_camera_appearance_and_capture_keys_reach_the_renderer(tmp_path, bake_pa
             assert app.scene.appearance.wireframe != UsdBake(bake_path).scene.appearance.wireframe
             assert app.renderer.recording and "● REC" in status(app)
             await pilot.press("v")
-            assert any(m.startswith("Video saved") for m in notifications(app))
+            await until(pilot, lambda: any(m.startswith("Video saved") for m in notifications(app)),
+                        what="'Video saved' notice")
     run(go())
 
 
