@@ -108,6 +108,43 @@ def test_winning_parallel_kernel_is_chosen_and_dropped_when_it_slows(monkeypatch
     assert parallel.calls == before  # backed off
 
 
+def test_a_try_is_judged_on_warm_caches_not_on_its_first_call():
+    # The first parallel call after serial ones finds the data in the other core's cache and
+    # is barely faster than one thread; warm, it is twice as fast. A one-call try lost on
+    # that alone (the 256² sheet ran on one thread in about half the bench runs).
+    last = {"kernel": "s"}
+
+    class Serial(Recorder):
+        def __call__(self, *args):
+            last["kernel"] = "s"
+            super().__call__()
+
+    class ColdThenWarm(Recorder):
+        def __call__(self, *args):
+            self.seconds = 0.0095 if last["kernel"] == "s" else 0.005
+            last["kernel"] = "p"
+            super().__call__()
+
+    serial, parallel = Serial("s", 0.01), ColdThenWarm("p")
+    choice = threads.KernelChoice(serial, parallel)
+    serial_calls = threads.FIRST_PROBE - 1  # the try starts on call FIRST_PROBE
+    for _ in range(serial_calls + threads.PROBE_CALLS):
+        choice()
+    assert choice.threads == 2 and parallel.calls == threads.PROBE_CALLS
+    for _ in range(30):
+        choice()
+    assert choice.threads == 2 and serial.calls == serial_calls
+
+
+def test_a_try_that_starts_much_slower_stops_after_one_call():
+    # Contention shows on the first call: the try ends there, as before PROBE_CALLS.
+    serial, parallel = Recorder("s", 0.002), Recorder("p", 0.01)
+    choice = threads.KernelChoice(serial, parallel)
+    for _ in range(threads.FIRST_PROBE + 3):
+        choice()
+    assert parallel.calls == 1 and choice.threads == 1 and serial.calls == threads.FIRST_PROBE + 2
+
+
 def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
     # where the instant count of runnable threads is unknown (not Linux)
     monkeypatch.setattr(threads, "runnable_now", lambda: None)
