@@ -92,8 +92,7 @@ class ProjectConstraints:
         self.lambdas = np.zeros(model.num_constraints)
         self._plan = plan_sweeps(model.n, model.edges, model.color_offsets, model.rest_length,
                                  model.inv_mass)
-        self._slot_alive = np.zeros(self._plan.slots, np.uint8)  # scratch, in sweep order
-        self._slot_lam = np.zeros(self._plan.slots)
+        self._scratch = self._plan.scratch()
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(
             sweep_grid_colors,
@@ -108,5 +107,5 @@ class ProjectConstraints:
         return self.kernels.threads
 
     def apply(self, state, h):
-        sweep(self.kernels, self._plan, state.x, state.alive, self.lambdas, self._slot_alive,
-              self._slot_lam, self.alpha_t, self.iterations)
+        sweep(self.kernels, self._plan, self._scratch, state.x, state.alive, self.lambdas,
+              self.alpha_t, self.iterations)

@@ -27,8 +27,7 @@ def _sweep(kernel, m, x, alpha_t, iterations=3, alive=None):
     lam = np.zeros(m.num_constraints)
     plan = _plan(m)
     alive = _intact(m) if alive is None else alive
-    grid_sweeps.sweep(kernel, plan, x, alive, lam, np.zeros(plan.slots, np.uint8),
-                      np.zeros(plan.slots), alpha_t, iterations)
+    grid_sweeps.sweep(kernel, plan, plan.scratch(), x, alive, lam, alpha_t, iterations)
     return lam
 
 
@@ -74,6 +73,29 @@ def test_sweeps_skip_torn_constraints_as_the_plain_loop_does(kernel, alpha_t):
         np.testing.assert_allclose(lam, lam_ref, atol=1e-12)
     _sweep(kernel, m, c, alpha_t)  # all intact: a different answer, so the mask was read
     assert np.abs(c - b).max() > 1e-4
+
+
+@pytest.mark.parametrize("kernel", [grid_sweeps.sweep_grid_colors,
+                                    grid_sweeps.sweep_grid_colors_parallel])
+def test_one_solver_sees_tears_and_undos_between_its_calls(kernel):
+    # A solver's scratch keeps `alive` in slot order and takes only what changed: a tear
+    # after the first call, and its undo after the second, must both reach the sweeps.
+    m = _model(13, pinned="one_edge")
+    rng = np.random.default_rng(3)
+    x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
+    torn = (rng.random(m.num_constraints) > 0.3).astype(np.uint8)
+    intact = _intact(m)
+    plan = _plan(m)
+    scratch = plan.scratch()
+    x, ref = x0.copy(), x0.copy()
+    lam = np.zeros(m.num_constraints)
+    for alive in (intact, torn, intact.copy(), torn.copy()):
+        grid_sweeps.sweep(kernel, plan, scratch, x, alive, lam, 0.0, 2)
+        xpbd.project_constraints(ref, m.inv_mass, m.edges, m.rest_length, alive,
+                                 m.color_offsets, np.zeros(m.num_constraints), 0.0, 2)
+        np.testing.assert_allclose(x, ref, atol=1e-12)
+        x += rng.normal(scale=0.01, size=x.shape)  # something left for the next call to do
+        ref[:] = x
 
 
 @pytest.mark.parametrize("families", [(True, False, False), (False, True, False),
