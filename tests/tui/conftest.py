@@ -11,8 +11,10 @@ from .fakes import FakeRenderService
 SIZE = (160, 48)
 
 
-async def until(pilot, condition, timeout: float = 5.0, what: str = "condition") -> None:
-    """Let the app run until `condition()` holds (it polls other threads' results)."""
+async def until(pilot, condition, timeout: float = 30.0, what: str = "condition") -> None:
+    """Let the app run until `condition()` holds (it polls other threads' results). The
+    timeout only bounds a failing test: a wait that succeeds returns at once, and on a
+    loaded machine 20 frames of a fresh app took over 5 s."""
     deadline = time.monotonic() + timeout
     while not condition():
         if time.monotonic() > deadline:

@@ -67,7 +67,7 @@ def test_a_new_sheet_ends_the_bake_and_quit_saves_a_running_one(tmp_path):
                         what="bake ended")
             # the notice is posted by the status refresh that ends the bake: wait for it
             await until(pilot, lambda: any("sheet was rebuilt" in m for m in notifications(app)),
-                        timeout=5, what=f"the rebuilt notice among {notifications(app)}")
+                        timeout=30, what=f"the rebuilt notice among {notifications(app)}")
             await pilot.press("e")
             await until(pilot, lambda: app.bake.recording and app.bake.recorder.frames >= 3,
                         timeout=20, what="second bake")
