@@ -37,3 +37,23 @@ def test_bad_sizes_and_thread_limit_are_one_line_errors(capsys, monkeypatch):
     assert main(["scenes"]) == 2
     err = capsys.readouterr().err
     assert "CLOTH_TUI_THREADS" in err and "Traceback" not in err and err.count("\n") == 1
+
+
+def test_gravity_cost_times_both_steps_on_one_thread(monkeypatch):
+    # The thread picker chooses per step: the two steps on different thread counts made
+    # gravity look cheaper than none. Both are timed on one thread; the choice comes back.
+    from cloth_tui.bench import cli, timing
+    from cloth_tui.sim import threads
+
+    seen = []
+    real = timing.time_calls
+
+    def spy(fn, **kwargs):
+        seen.append(threads.single_thread_forced())
+        return real(fn, **{**kwargs, "block_s": 0.001, "blocks": 1})
+
+    monkeypatch.setattr(timing, "time_calls", spy)
+    cost = cli.gravity_cost(6, quick=True)
+    assert seen and all(seen) and not threads.single_thread_forced()
+    assert cost["bare_effects"] == ["integrate_verlet", "project_constraints", "apply_pins",
+                                    "update_velocities"]
