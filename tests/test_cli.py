@@ -22,6 +22,7 @@ def test_simulate_default_reports_finite_sheet():
     for k in ("constraints", "steps", "min_y", "max_speed", "max_stretch", "mean_stretch",
               "energy", "penetration", "effects", "wall_s"):
         assert k in stats
+    assert stats["mean_frame_ms"] == pytest.approx(1e3 * stats["wall_s"] / 120)
 
 
 def test_simulate_json_reports_the_tolerance_and_what_it_took():

@@ -291,6 +291,7 @@ class Simulation:
             "recoveries": self.recoveries,
             "halted": self.halted,
             "frame_ms": 1e3 * self.last_step_s,            # simulation time of the last frame
+            "mean_frame_ms": 1e3 * self.wall_s / self.frames if self.frames else 0.0,
             "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
             "substeps_used": self.step.substeps,            # adaptive or recovering: ≠ asked
             "wall_s": self.wall_s,
