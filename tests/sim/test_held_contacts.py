@@ -122,3 +122,34 @@ def test_the_cli_refuses_it_in_one_line_with_exit_2(capsys):
                  "--set", "cloth.height=0", "--frames", "1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "scene.object (a box) encloses a held particle" in err
+
+
+def test_a_moving_object_is_checked_along_its_orbit():
+    # The orbit (a 0.25 m circle through the start, colliders.orbit_offset) takes a 0.1 m
+    # sphere from the middle of the near edge over the pinned corner (0.5, 0.25, 0.5).
+    start = dict(type="sphere", center=[0.5, 0.25, 0.0], radius=0.1)
+    s = scene(cloth__resolution=N, cloth__pinned="corners")
+    s.objects = [SceneObject(**start)]
+    check_start(s)  # static, where it starts: it holds nothing
+    s.objects = [SceneObject(**start, motion="orbit")]
+    with pytest.raises(SceneError, match=r"^objects\[0\] \(a sphere, [0-9.]+ s into its orbit\) "
+                                         r"encloses a held particle .* at \(0\.5, 0\.25, 0\.5\) m"):
+        check_start(s)
+    with pytest.raises(SceneError):
+        Simulation(s)
+    # the same orbit 0.25 m lower passes the corner 0.25 m off: accepted
+    s.objects = [SceneObject(type="sphere", center=[0.5, 0.0, 0.0], radius=0.1, motion="orbit")]
+    check_start(s)
+
+
+def test_a_moving_plane_that_comes_between_held_particles_is_refused():
+    # x = 0.6 leaves all four corners on one side; the orbit swings it to x = 0.35. (No
+    # skin, so that crossing the corners is the reason, not touching them on the way.)
+    plane = dict(type="plane", center=[0.6, 0.25, 0.0], normal=[1.0, 0.0, 0.0])
+    s = scene(cloth__resolution=N, cloth__pinned="corners", scene__thickness=0.0)
+    s.objects = [SceneObject(**plane)]
+    check_start(s)
+    s.objects = [SceneObject(**plane, motion="orbit")]
+    with pytest.raises(SceneError, match=r"^objects\[0\] \(a plane, [0-9.]+ s into its orbit\) "
+                                         r"passes between held particles"):
+        check_start(s)
