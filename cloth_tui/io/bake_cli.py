@@ -57,7 +57,8 @@ def run_bake(args) -> int:
                     break
                 sim.advance_frame()
                 snap = sim.snapshot(stats={})
-                writer.write(BakedFrame(frame, snap.t, snap.positions, snap.objects))
+                writer.write(BakedFrame(frame, snap.t, snap.positions, snap.objects,
+                                        snap.alive))
                 done = frame
                 progress.show(done)
             writer.close()

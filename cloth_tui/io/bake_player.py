@@ -19,6 +19,10 @@ def bake_model(bake: UsdBake, scene: Scene) -> ClothModel:
     if points != model.num_particles:
         raise UsageError(f"{bake.path}: its cloth has {points} points, its recorded scene "
                          f"makes {model.num_particles}")
+    alive = bake.alive(bake.frames[-1])  # a torn sheet's flags, one per constraint
+    if alive is not None and len(alive) != model.num_constraints:
+        raise UsageError(f"{bake.path}: its cloth has {len(alive)} constraint flags, its "
+                         f"recorded scene makes {model.num_constraints} constraints")
     return model
 
 
@@ -92,4 +96,4 @@ class BakePlayer:
     def snapshot(self) -> Snapshot:
         frame = self.frame
         return Snapshot(self.bake.positions(frame), frame, self.time, {}, self.model,
-                        self.scene, self.bake.objects(frame))
+                        self.scene, self.bake.objects(frame), self.bake.alive(frame))

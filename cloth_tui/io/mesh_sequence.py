@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..sim.surface import grid_uv, vertex_normals
-from .frames import BakedFrame
+from .frames import BakedFrame, SheetFaces
 
 SEQUENCE_SUFFIXES = (".obj", ".ply")
 DEFAULT_DIGITS = 4
@@ -35,23 +35,31 @@ def sequence_path(pattern: Path, frame: int) -> Path:
     return pattern.with_name(name + pattern.suffix)
 
 
+def _vtk_faces(triangles: np.ndarray) -> np.ndarray:
+    return np.c_[np.full(len(triangles), 3, np.int64), triangles].ravel()
+
+
 class MeshSequenceWriter:
     def __init__(self, pattern: Path, model):
         import pyvista as pv
 
         self.pattern = Path(pattern)
         self.suffix = self.pattern.suffix.lower()
-        self.triangles = np.asarray(model.triangles, dtype=np.int64)
-        faces = np.c_[np.full(len(self.triangles), 3, np.int64), self.triangles].ravel()
-        self.mesh = pv.PolyData(np.asarray(model.rest_positions, dtype=np.float64).copy(), faces)
+        self.faces = SheetFaces(model)
+        self.mesh = pv.PolyData(np.asarray(model.rest_positions, dtype=np.float64).copy(),
+                                _vtk_faces(self.faces.all))
         # float32: VTK's PLY writer takes no other texture coordinates (and crashes on them)
         self.mesh.active_texture_coordinates = grid_uv(model.n).astype(np.float32)
         self.paths: list[Path] = []
 
     def write(self, frame: BakedFrame) -> None:
         x = np.asarray(frame.positions, dtype=np.float64)
+        if self.faces.update(frame.alive):  # a tear: its faces go, as the renderer draws it
+            self.mesh.cell_data.clear()  # per-face arrays a save left, of the old faces' count
+            self.mesh.faces = _vtk_faces(self.faces.triangles)
         self.mesh.points = x
-        self.mesh.point_data["Normals"] = vertex_normals(x, self.triangles).astype(np.float32)
+        self.mesh.point_data["Normals"] = vertex_normals(x, self.faces.triangles).astype(
+            np.float32)
         self.mesh.point_data.active_normals_name = "Normals"
         path = sequence_path(self.pattern, frame.frame)
         # The temp name keeps the suffix: VTK picks its writer by it.

@@ -52,7 +52,8 @@ class UsdRecorder:
         if self._first is None:
             self._first = snap.frame - 1
         self._last = snap.frame
-        frame = BakedFrame(snap.frame - self._first, snap.t, snap.positions, snap.objects)
+        frame = BakedFrame(snap.frame - self._first, snap.t, snap.positions, snap.objects,
+                           snap.alive)
         try:
             self._queue.put_nowait(frame)
         except queue.Full:

@@ -1,7 +1,10 @@
 """A bake as a USD stage (Pixar's usd-core, the optional extra `[usd]`).
 
     /World                 Xform, the default prim
-      Cloth                Mesh: faces, UVs (primvars:st), time-sampled points, normals, extent
+      Cloth                Mesh: faces, UVs (primvars:st), time-sampled points, normals, extent;
+                           on a torn sheet also time-sampled faces (those with no torn edge,
+                           a sample where they change) and cloth_tui:alive (the constraints'
+                           intact flags, for reading the bake back)
       Ground               Mesh: a quad at the floor's height (when the scene has a floor)
       Objects/Object_k     Xform: translate (time-sampled once the object moves) and the exact
                            shape as cloth_tui:* attributes, for reading the bake back
@@ -30,7 +33,7 @@ import numpy as np
 
 from .. import scene_files as scene_io
 from ..sim.surface import grid_uv, vertex_normals
-from .frames import BakedFrame
+from .frames import BakedFrame, SheetFaces
 from .mesh_sequence import BakeIOError
 
 USD_SUFFIXES = (".usd", ".usdc", ".usda")
@@ -39,6 +42,7 @@ SAVE_SHARE = 0.2        # at most this share of the wall time goes to saving
 GROUND_HALF = 5.0       # m: half the side of the ground quad
 PLANE_HALF = 1.0        # m: half the side of the quad that shows an (infinite) plane
 SCENE_KEY = "cloth_tui:scene"
+ALIVE_KEY = "cloth_tui:alive"  # the cloth's intact flags, on a torn sheet (model.edges order)
 VERSION_KEY = "cloth_tui:format"
 FORMAT_VERSION = 1
 
@@ -82,7 +86,7 @@ class UsdBakeWriter:
         self.Gf, self.Sdf, self.Usd, self.UsdGeom, self.Vt = Gf, Sdf, Usd, UsdGeom, Vt
         self.path = Path(path)
         self.scene = scene
-        self.triangles = np.asarray(model.triangles, dtype=np.int64)
+        self.faces = SheetFaces(model)
         self.stage = Usd.Stage.CreateInMemory()
         stage = self.stage
         UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
@@ -100,8 +104,8 @@ class UsdBakeWriter:
 
         self.cloth = UsdGeom.Mesh.Define(stage, "/World/Cloth")
         self.cloth.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)  # a polygon mesh
-        self.cloth.CreateFaceVertexCountsAttr(Vt.IntArray([3] * len(self.triangles)))
-        self.cloth.CreateFaceVertexIndicesAttr(Vt.IntArray(self.triangles.ravel().tolist()))
+        self.cloth.CreateFaceVertexCountsAttr(Vt.IntArray([3] * len(self.faces.all)))
+        self.cloth.CreateFaceVertexIndicesAttr(Vt.IntArray(self.faces.all.ravel().tolist()))
         self.cloth.CreateDoubleSidedAttr(True)
         self.cloth.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
         st = UsdGeom.PrimvarsAPI(self.cloth).CreatePrimvar(
@@ -113,7 +117,9 @@ class UsdBakeWriter:
             self._define_ground()
         UsdGeom.Xform.Define(stage, "/World/Objects")
         self.objects: list = []   # (translate op, first centre, centres so far, moving)
+        self.alive_attr = None  # cloth_tui:alive, made when the sheet first tears
         self.frames = 0
+        self.first_frame: int | None = None
         self.last_frame = 0
         self._saved_at = time.monotonic()
         self._save_s = 0.0  # how long the last save took
@@ -177,8 +183,12 @@ class UsdBakeWriter:
         Gf, Vt = self.Gf, self.Vt
         x = np.asarray(frame.positions, dtype=np.float64)
         code = float(frame.frame)
+        if self.first_frame is None:
+            self.first_frame = frame.frame
+        if self.faces.update(frame.alive):
+            self._write_faces(frame)
         self.cloth.GetPointsAttr().Set(Vt.Vec3fArray.FromNumpy(x.astype(np.float32)), code)
-        normals = vertex_normals(x, self.triangles).astype(np.float32)
+        normals = vertex_normals(x, self.faces.triangles).astype(np.float32)
         self.cloth.GetNormalsAttr().Set(Vt.Vec3fArray.FromNumpy(normals), code)
         lo, hi = x.min(axis=0), x.max(axis=0)
         self.cloth.GetExtentAttr().Set(Vt.Vec3fArray([Gf.Vec3f(*lo), Gf.Vec3f(*hi)]), code)
@@ -191,6 +201,25 @@ class UsdBakeWriter:
         if time.monotonic() - self._saved_at >= max(SAVE_INTERVAL_S,
                                                     self._save_s / SAVE_SHARE):
             self.save()
+
+    def _write_faces(self, frame: BakedFrame) -> None:
+        """Samples of the faces and the intact flags from this frame on. Once an attribute
+        has samples its default no longer shows, so the first change also samples the whole
+        sheet at the bake's first frame, when it came later."""
+        intact = np.ones(len(self.faces.model.edges), np.uint8)
+        if self.alive_attr is None:
+            self.alive_attr = self.cloth.GetPrim().CreateAttribute(
+                ALIVE_KEY, self.Sdf.ValueTypeNames.UCharArray, custom=True)
+            if frame.frame > self.first_frame:
+                self._set_faces(self.faces.all, intact, float(self.first_frame))
+        alive = intact if frame.alive is None else np.asarray(frame.alive, dtype=np.uint8)
+        self._set_faces(self.faces.triangles, alive, float(frame.frame))
+
+    def _set_faces(self, triangles: np.ndarray, alive: np.ndarray, code: float) -> None:
+        Vt = self.Vt
+        self.cloth.GetFaceVertexCountsAttr().Set(Vt.IntArray([3] * len(triangles)), code)
+        self.cloth.GetFaceVertexIndicesAttr().Set(Vt.IntArray(triangles.ravel().tolist()), code)
+        self.alive_attr.Set(Vt.UCharArray.FromNumpy(alive), code)
 
     def _place_object(self, k: int, centre: tuple, frame: int) -> None:
         """A still object keeps one (default) translate; once it moves, every frame so far

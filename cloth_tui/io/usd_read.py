@@ -1,5 +1,6 @@
 """Reading a USD bake back (what usd_bake writes): the scene it was made from, and per frame
-the cloth's points and where each object was. For re-rendering without re-simulating."""
+the cloth's points, which of its constraints were intact, and where each object was. For
+re-rendering without re-simulating."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from ..scene import SceneError
 from ..scene_files import loads
 from ..sim.protocols import ObjectPose
 from ..usage import UsageError
-from .usd_bake import SCENE_KEY, USD_SUFFIXES, missing_usd_message
+from .usd_bake import ALIVE_KEY, SCENE_KEY, USD_SUFFIXES, missing_usd_message
 
 CLOTH_PATH = "/World/Cloth"
 OBJECTS_PATH = "/World/Objects"
@@ -52,6 +53,7 @@ class UsdBake:
         except SceneError as e:
             raise UsageError(f"{self.path}: its recorded scene is invalid: {e}") from None
         self.points = cloth.GetPointsAttr()
+        self._alive = cloth.GetPrim().GetAttribute(ALIVE_KEY)  # written once the sheet tore
         self.frames = [int(round(t)) for t in self.points.GetTimeSamples()]
         if not self.frames:
             raise UsageError(f"{self.path}: the bake holds no frames")
@@ -82,6 +84,14 @@ class UsdBake:
     def positions(self, frame: int) -> np.ndarray:
         """(N, 3) float64 points of the cloth at this frame (stored as float32)."""
         return np.asarray(self.points.Get(float(frame)), dtype=np.float64)
+
+    def alive(self, frame: int) -> np.ndarray | None:
+        """The constraints' intact flags at this frame (model.edges order), or None while
+        nothing is torn: what a Snapshot carries, so a replay shows the tear."""
+        if not self._alive or not self._alive.HasAuthoredValue():
+            return None
+        alive = np.asarray(self._alive.Get(float(frame)), dtype=np.uint8)
+        return None if alive.all() else alive
 
     def objects(self, frame: int) -> tuple:
         return tuple(ObjectPose(center=tuple(map(float, translate.Get(float(frame)))), **shape)

@@ -65,7 +65,7 @@ def run_replay(args, out: Path, size: tuple[int, int],
                 if interrupt.signum is not None:
                     break
                 snap = Snapshot(bake.positions(frame), frame, frame / bake.frame_rate, {},
-                                model, scene, bake.objects(frame))
+                                model, scene, bake.objects(frame), bake.alive(frame))
                 image = renderer.render(snap)
                 if video is not None:
                     video.write(image)
