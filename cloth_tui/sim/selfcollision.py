@@ -6,7 +6,10 @@ move). D is below the rest distance of every grid pair (≥ 1 spacing), so a fla
 has no contacts; it is above half a cell diagonal (0.707 spacing), so a particle cannot slip
 through the middle of a cell of another layer. Pairs the constraints already govern (the
 structural, shear and bending stencil: |di|, |dj| ≤ 1, or 2 apart in a row or column) are
-skipped: their distance is the constraints' business.
+skipped: their distance is the constraints' business. Once a tear or a cut breaks the
+constraint of such a pair, nothing governs it and it collides like any other: the two lips
+of a cut keep apart instead of sliding through each other. (A stencil pair whose family is
+switched off has no constraint to break and stays skipped.)
 
 Two detectors list the same pairs (tested): `find_pairs_naive`, O(N²), the reference; and
 `find_pairs_hash`, a sparse spatial hash of cell size 2D rebuilt every substep (counting
@@ -28,18 +31,56 @@ SCREEN_SLACK = 1e-12      # m: absolute part of the float32 screen's margin
 COINCIDENT = 1e-12        # m: a pair this close has no direction to be pushed apart along
 
 
+# The stencil's offsets (di, dj) from the lower-numbered particle of a pair, in the order of
+# stencil_constraints' columns: structural right and down, shear down-right and down-left,
+# bending two right and two down.
+STENCIL = ((0, 1), (1, 0), (1, 1), (1, -1), (0, 2), (2, 0))
+
+
+def stencil_constraints(model) -> np.ndarray:
+    """(N, 6) int64: the constraint (index into model.edges) joining particle p to p + each
+    STENCIL offset, −1 where there is none (off the grid, or its family switched off)."""
+    n, num = model.n, model.num_particles
+    out = np.full((num, len(STENCIL)), -1, np.int64)
+    if not model.num_constraints:
+        return out
+    lo, hi = model.edges.min(axis=1), model.edges.max(axis=1)
+    di, dj = hi // n - lo // n, hi % n - lo % n
+    for k, (a, b) in enumerate(STENCIL):
+        mine = (di == a) & (dj == b)
+        out[lo[mine], k] = np.flatnonzero(mine)
+    return out
+
+
 @kernel(inline="always")
-def _governed(a, b, n):
-    """Whether particles a, b are a constraint-stencil pair of the n×n grid."""
-    di = abs(a // n - b // n)
-    dj = abs(a % n - b % n)
-    return (di <= 1 and dj <= 1) or (di == 0 and dj == 2) or (dj == 0 and di == 2)
+def _governed(a, b, n, stencil, alive):
+    """Whether particles a < b are a constraint-stencil pair of the n×n grid whose constraint,
+    if it has one, is intact."""
+    di = b // n - a // n
+    dj = b % n - a % n
+    if di == 0 and dj == 1:
+        k = 0
+    elif di == 1 and dj == 0:
+        k = 1
+    elif di == 1 and dj == 1:
+        k = 2
+    elif di == 1 and dj == -1:
+        k = 3
+    elif di == 0 and dj == 2:
+        k = 4
+    elif di == 2 and dj == 0:
+        k = 5
+    else:
+        return False
+    e = stencil[a, k]
+    return e < 0 or alive[e] != 0
 
 
 @kernel()
-def find_pairs_naive(x, n, dist, pairs):
-    """All non-stencil pairs (i < j) closer than `dist`, written to `pairs`. Returns how many
-    there are; if that exceeds len(pairs) only the first len(pairs) were written."""
+def find_pairs_naive(x, n, stencil, alive, dist, pairs):
+    """All pairs (i < j) closer than `dist` that no intact constraint governs, written to
+    `pairs`. Returns how many there are; if that exceeds len(pairs) only the first len(pairs)
+    were written."""
     d2max = dist * dist
     count = 0
     cap = pairs.shape[0]
@@ -48,7 +89,7 @@ def find_pairs_naive(x, n, dist, pairs):
             dx = x[j, 0] - x[i, 0]
             dy = x[j, 1] - x[i, 1]
             dz = x[j, 2] - x[i, 2]
-            if dx * dx + dy * dy + dz * dz < d2max and not _governed(i, j, n):
+            if dx * dx + dy * dy + dz * dz < d2max and not _governed(i, j, n, stencil, alive):
                 if count < cap:
                     pairs[count, 0] = i
                     pairs[count, 1] = j
@@ -107,8 +148,8 @@ def build_hash(x, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles
 
 
 @kernel()
-def find_pairs_hash(x, n, dist, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles,
-                    sorted_key, sorted_x, pairs):
+def find_pairs_hash(x, n, stencil, alive, dist, inv_cell, mask, stride_z, stride_y, cell_start,
+                    cell_particles, sorted_key, sorted_x, pairs):
     """The same pairs as find_pairs_naive (order aside), in O(N): build the hash (cell size
     1/inv_cell must be ≥ 2·dist), then look only at the 8 cells nearest each particle.
     Candidates are screened in float32 with a margin above float32's rounding error, then
@@ -154,7 +195,8 @@ def find_pairs_hash(x, n, dist, inv_cell, mask, stride_z, stride_y, cell_start, 
                         ex = x[j, 0] - px
                         ey = x[j, 1] - py
                         ez = x[j, 2] - pz
-                        if ex * ex + ey * ey + ez * ez < d2max and not _governed(i, j, n):
+                        if (ex * ex + ey * ey + ez * ez < d2max
+                                and not _governed(i, j, n, stencil, alive)):
                             if count < cap:
                                 pairs[count, 0] = i
                                 pairs[count, 1] = j
@@ -197,6 +239,8 @@ class SelfCollision:
         self.name = f"self_collision_{method}"
         self.method = method
         self.n = model.n
+        self.stencil = stencil_constraints(model)
+        self.intact = np.ones(model.num_constraints, np.uint8)
         self.inv_mass = model.inv_mass
         self.distance = fraction * model.spacing
         self.inv_cell = 0.5 / self.distance  # cells 2·D wide (see find_pairs_hash)
@@ -212,14 +256,17 @@ class SelfCollision:
         self.pairs = np.zeros((4 * num, 2), np.int64)
         self.count = 0
 
-    def find_pairs(self, x: np.ndarray) -> int:
-        """List the close pairs of positions x into self.pairs; returns their number."""
+    def find_pairs(self, x: np.ndarray, alive: np.ndarray | None = None) -> int:
+        """List the close pairs of positions x into self.pairs, with the constraints' intact
+        flags `alive` (None: all intact); returns their number."""
+        alive = self.intact if alive is None else alive
         while True:
             if self.method == "naive":
-                count = find_pairs_naive(x, self.n, self.distance, self.pairs)
+                count = find_pairs_naive(x, self.n, self.stencil, alive, self.distance,
+                                         self.pairs)
             else:
-                count = find_pairs_hash(x, self.n, self.distance, self.inv_cell, self.mask,
-                                        self.stride_z, self.stride_y,
+                count = find_pairs_hash(x, self.n, self.stencil, alive, self.distance,
+                                        self.inv_cell, self.mask, self.stride_z, self.stride_y,
                                         self.cell_start, self.cell_particles,
                                         self.sorted_key, self.sorted_x, self.pairs)
             if count <= len(self.pairs):
@@ -227,13 +274,13 @@ class SelfCollision:
                 return count
             self.pairs = np.zeros((2 * count, 2), np.int64)
 
-    def pair_set(self, x: np.ndarray) -> set:
+    def pair_set(self, x: np.ndarray, alive: np.ndarray | None = None) -> set:
         """The pairs that a substep at positions x would resolve, as {(i, j), i < j}."""
-        k = self.find_pairs(x)
+        k = self.find_pairs(x, alive)
         return {(int(a), int(b)) for a, b in self.pairs[:k]}
 
     def apply(self, state, h):
-        count = self.find_pairs(state.x)
+        count = self.find_pairs(state.x, state.alive)
         resolve_pairs(state.x, self.inv_mass, self.pairs, count, self.distance)
 
 

@@ -175,3 +175,48 @@ def test_spatial_hash_buckets_stay_small_at_every_size():
         load[n] = bucket_load(sc)
     assert max(load.values()) < 1.3 * min(load.values()) and max(load.values()) < 6, load
 
+
+
+def test_stencil_constraints_name_the_constraint_of_each_neighbour():
+    m = model(7, behavior__shear=False)  # a family off: its columns stay −1
+    table = selfcollision.stencil_constraints(m)
+    n = m.n
+    for k, (di, dj) in enumerate(selfcollision.STENCIL):
+        for p in range(n * n):
+            e = table[p, k]
+            i, j = divmod(p, n)
+            if e < 0:
+                on_grid = 0 <= i + di < n and 0 <= j + dj < n
+                assert not on_grid or k in (2, 3)  # only the shear family is missing
+            else:
+                assert sorted(m.edges[e]) == [p, (i + di) * n + j + dj]
+    assert (table >= 0).sum() == m.num_constraints  # each constraint once
+
+
+@pytest.mark.parametrize("method", ["naive", "hash"])
+@pytest.mark.parametrize("offset", [(0, 1), (1, 0), (1, 1), (0, 2)])
+def test_a_torn_neighbour_pair_collides_and_an_intact_one_does_not(method, offset):
+    # The lips of a cut: once the constraint between two neighbours breaks, nothing keeps
+    # them apart but self-collision.
+    m = model(9)
+    n, (di, dj) = m.n, offset
+    a = 4 * n + 4
+    b = a + di * n + dj
+    x = np.array(m.rest_positions)
+    x[b] = x[a] + [0.0, 0.1 * m.spacing, 0.0]  # pressed onto each other
+    e = selfcollision.stencil_constraints(m)[a, selfcollision.STENCIL.index(offset)]
+    torn = np.ones(m.num_constraints, np.uint8)
+    torn[e] = 0
+    sc = selfcollision.SelfCollision(m, method)
+    assert (a, b) not in sc.pair_set(x)
+    assert (a, b) in sc.pair_set(x, torn)
+
+    class State:
+        pass
+    state = State()
+    state.x, state.alive = x.copy(), torn
+    sc.apply(state, 0.0)
+    assert np.linalg.norm(state.x[b] - state.x[a]) == pytest.approx(sc.distance)
+    state.x, state.alive = x.copy(), np.ones(m.num_constraints, np.uint8)
+    sc.apply(state, 0.0)
+    np.testing.assert_array_equal(state.x[[a, b]], x[[a, b]])  # intact: the constraint's job
