@@ -332,7 +332,8 @@ class Renderer:
         self._update_cloth(positions)
         self._positions = positions
         self.objects.update(snapshot.objects)
-        self.shadow.update(positions, snapshot.model.n, self.elevation)
+        self.shadow.update(positions, snapshot.model.n, self.elevation, self._tri,
+                           self._faces_for[1])
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0

@@ -4,6 +4,9 @@ colour of ground the sun does not reach. A planar projection is exact for a flat
 directional light; PyVista's shadow maps draw the scene twice and SSAO adds passes over every
 pixel, both far over the frame budget in software GL (measured in docs/rendering.md).
 
+A torn sheet casts the shadow of the faces it shows (every particle, the renderer's intact
+triangles): the coarse copy's cells would span its tears and shade the ground under the gap.
+
 Untextured ground: the shadow is opaque, coloured as the ground lit by ambient and headlight
 only, fogged like the ground. Textured ground: translucent black, so the texture shows."""
 
@@ -73,7 +76,7 @@ class Shadow:
         self.mesh = pv.PolyData()
         self.actor = None
         self.index = np.zeros(0, np.int64)
-        self.n = -1
+        self.drawn = (-1, 0)  # (n, torn count) the mesh was built for
         self.ground = self.emissive = np.zeros(3)
         self.textured = False
         self.visible = False
@@ -90,10 +93,13 @@ class Shadow:
         if self.actor is not None:
             self.actor.SetVisibility(self.visible)
 
-    def _build(self, n: int) -> None:
+    def _build(self, n: int, torn_faces: np.ndarray | None) -> None:
         if self.actor is not None:
             self.plotter.remove_actor(self.actor, render=False)
-        self.index, tri = coarse_grid(n)
+        if torn_faces is None:
+            self.index, tri = coarse_grid(n)
+        else:
+            self.index, tri = np.arange(n * n, dtype=np.int64), torn_faces
         m = len(self.index)
         self.mesh = self.pv.PolyData(np.zeros((m, 3), np.float32),
                                      np.c_[np.full(len(tri), 3), tri].ravel())
@@ -103,14 +109,17 @@ class Shadow:
         self._scratch = np.empty((m, 3))
         self._points_view = self.mesh.points  # NumPy views of VTK's arrays, written in place
         self._rgba_view = self.mesh.point_data["rgba"]
-        self.n = n
         self.actor.SetVisibility(self.visible)
 
-    def update(self, positions: np.ndarray, n: int, elevation_deg: float) -> None:
+    def update(self, positions: np.ndarray, n: int, elevation_deg: float,
+               torn_faces: np.ndarray | None = None, torn: int = 0) -> None:
         """Project the sheet's `positions` (an n×n grid) for a camera `elevation_deg` high
-        (the headlight, which still reaches the shadow, depends on it)."""
-        if n != self.n:
-            self._build(n)
+        (the headlight, which still reaches the shadow, depends on it). On a torn sheet
+        (`torn` constraints broken) the shadow is of `torn_faces`, the triangles drawn;
+        rebuilt only when n or the torn count changes, as the sheet's faces are."""
+        if (n, torn) != self.drawn:
+            self._build(n, torn_faces if torn else None)
+            self.drawn = (n, torn)
         if not self.visible:
             return
         # untextured: the ground as flat_ground_light makes it, without the sun's term
