@@ -214,6 +214,18 @@ def coincident_direction(a, b):
 
 
 @kernel(inline="always")
+def _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz):
+    """Pair t's correction: its ends move apart along (dx, dy, dz) by s, weighted by their
+    inverse masses wa, wb."""
+    xa[t] -= wa * s * dx
+    ya[t] -= wa * s * dy
+    za[t] -= wa * s * dz
+    xb[t] += wb * s * dx
+    yb[t] += wb * s * dy
+    zb[t] += wb * s * dz
+
+
+@kernel(inline="always")
 def _pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t, keeps_lambda):
     """One projection (xpbd.py's update) of pair t of a run. Branch-free, so a run
     vectorises: a pair of pinned ends (w 0) or a torn or padding one (alive 0) gets a zero
@@ -233,20 +245,15 @@ def _pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t, 
     lam_t = lam[t] if keeps_lambda else 0.0
     s = (rest[t] - d - alpha_t * lam_t) / (d * (wa + wb + alpha_t)) if wa + wb > 0.0 else 0.0
     s = 0.0 if crushed or not alive[t] else s
-    xa[t] -= wa * s * dx
-    ya[t] -= wa * s * dy
-    za[t] -= wa * s * dz
-    xb[t] += wb * s * dx
-    yb[t] += wb * s * dy
-    zb[t] += wb * s * dz
+    _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
     if keeps_lambda:
         lam[t] = lam_t + s * d
     return 1 if crushed and alive[t] else 0
 
 
 @kernel(inline="always")
-def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t, a,
-                  b):
+def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t,
+                  keeps_lambda, a, b):
     """The pairs `_pair` left: ends (particles a and b) closer than COINCIDENT separate along
     xpbd.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as with the
     plain loop. Pairs of one colour share no particle, so doing these after the rest of
@@ -259,15 +266,10 @@ def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, a
     if alive[t] and wa + wb > 0.0 and dx * dx + dy * dy + dz * dz < COINCIDENT * COINCIDENT:
         dx, dy, dz = coincident_direction(a, b)
         d = COINCIDENT
-        lam_t = lam[t] if alpha_t != 0.0 else 0.0  # PBD's λ is neither reset nor kept
+        lam_t = lam[t] if keeps_lambda else 0.0  # PBD's λ is neither reset nor kept
         s = (rest[t] - d - alpha_t * lam_t) / (d * (wa + wb + alpha_t))
-        xa[t] -= wa * s * dx
-        ya[t] -= wa * s * dy
-        za[t] -= wa * s * dz
-        xb[t] += wb * s * dx
-        yb[t] += wb * s * dy
-        zb[t] += wb * s * dz
-        if alpha_t != 0.0:
+        _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
+        if keeps_lambda:
             lam[t] = lam_t + s * d
 
 
@@ -298,7 +300,7 @@ def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, n, width, block):
     if left:
         for t in range(count):
             _crushed_pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, alpha_t,
-                          _particle(a0 + t, n, width, block),
+                          alpha_t != 0.0, _particle(a0 + t, n, width, block),
                           _particle(b0 + t, n, width, block))
 
 

@@ -145,21 +145,15 @@ def test_a_try_that_starts_much_slower_stops_after_one_call():
     assert parallel.calls == 1 and choice.threads == 1 and serial.calls == threads.FIRST_PROBE + 2
 
 
-def test_no_parallel_try_while_the_load_average_fills_the_cores(monkeypatch):
-    # where the instant count of runnable threads is unknown (not Linux)
-    monkeypatch.setattr(threads, "runnable_now", lambda: None)
-    monkeypatch.setattr(threads, "load_average", lambda: 3.0)
-    serial, parallel = Recorder("s", 0.002), Recorder("p")
-    choice = threads.KernelChoice(serial, parallel)
-    for _ in range(40):
-        choice()
-    assert parallel.calls == 0
-
-
-def test_no_parallel_try_while_another_thread_is_running_now(monkeypatch):
+@pytest.mark.parametrize("runnable,load", [
+    # where the instant count of runnable threads is unknown (not Linux), the load average
+    (None, 3.0),
     # A busy process started a moment ago has not yet moved the load average; the count of
     # runnable threads sees it at once (itself and this thread fill both cores).
-    monkeypatch.setattr(threads, "runnable_now", lambda: 2)
+    (2, 0.5)])
+def test_no_parallel_try_while_the_cores_are_busy(monkeypatch, runnable, load):
+    monkeypatch.setattr(threads, "runnable_now", lambda: runnable)
+    monkeypatch.setattr(threads, "load_average", lambda: load)
     serial, parallel = Recorder("s", 0.002), Recorder("p")
     choice = threads.KernelChoice(serial, parallel)
     for _ in range(40):
