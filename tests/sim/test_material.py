@@ -1,0 +1,130 @@
+"""A material on the grid: masses, per-edge XPBD compliance and cell shear give the
+continuum's energies at every resolution and aspect of the cells; damping per substep does
+not depend on the substep."""
+
+import numpy as np
+import pytest
+
+from cloth_tui.materials.errors import MaterialError
+from cloth_tui.materials.schema import material_from_table
+from cloth_tui.sim.material import (Grid, cell_shear_strain, damping_factor,
+                                    damping_rate_from_share, grid_pairs, lumped_masses,
+                                    membrane_energy, pair_compliance, pair_stiffness)
+from cloth_tui.sim.model import grid_edges
+
+DENIM = material_from_table({"preset": "denim"})      # shear well below stretch
+JERSEY = material_from_table({"preset": "jersey"})    # shear above its warp stretch
+# (cols, rows) from 5×3 to 65×40 cells, cells square and not
+GRIDS = [Grid.sheet(1.0, 0.6, cols, rows) for cols, rows in ((5, 3), (9, 5), (33, 17),
+                                                              (65, 41), (20, 31))]
+STRAIN = 1e-4  # small: the energies compared are the linear theory's
+
+
+def test_lumped_masses_are_density_times_area_at_every_resolution():
+    for g in GRIDS:
+        m = lumped_masses(g, DENIM.areal_density)
+        assert m.sum() == pytest.approx(DENIM.areal_density * 0.6)
+        interior = m.reshape(g.rows, g.cols)[1:-1, 1:-1]
+        assert np.allclose(interior, DENIM.areal_density * g.dx * g.dz)
+
+
+def stretched(grid, along):
+    x = grid.rest_positions()
+    x[:, along] *= 1 + STRAIN
+    return x
+
+
+def sheared(grid):
+    x = grid.rest_positions()
+    x[:, 0] += STRAIN * x[:, 2]  # simple shear: γ = STRAIN
+    return x
+
+
+@pytest.mark.parametrize("shear, grid", [("cells", g) for g in GRIDS] +
+                         [("springs", g) for g in GRIDS[:4]],
+                         ids=lambda v: f"{v.cols}x{v.rows}" if isinstance(v, Grid) else v)
+def test_a_uniform_strain_stores_the_continuums_energy(grid, shear):
+    area = grid.area
+    warp = membrane_energy(stretched(grid, 0), DENIM, grid, shear)
+    weft = membrane_energy(stretched(grid, 2), DENIM, grid, shear)
+    shearing = membrane_energy(sheared(grid), DENIM, grid, shear)
+    assert warp == pytest.approx(0.5 * DENIM.stretch_warp * STRAIN ** 2 * area, rel=1e-4)
+    assert weft == pytest.approx(0.5 * DENIM.stretch_weft * STRAIN ** 2 * area, rel=1e-4)
+    assert shearing == pytest.approx(0.5 * DENIM.shear * STRAIN ** 2 * area, rel=1e-4)
+
+
+def test_cell_shear_holds_a_fabric_stiffer_in_shear_than_in_stretch():
+    g = GRIDS[2]
+    assert JERSEY.shear > JERSEY.stretch_warp
+    assert membrane_energy(sheared(g), JERSEY, g) == pytest.approx(
+        0.5 * JERSEY.shear * STRAIN ** 2 * g.area, rel=1e-4)
+    assert membrane_energy(stretched(g, 0), JERSEY, g) == pytest.approx(
+        0.5 * JERSEY.stretch_warp * STRAIN ** 2 * g.area, rel=1e-4)
+    with pytest.raises(MaterialError, match="diagonal springs cannot be that stiff in shear"):
+        pair_stiffness(JERSEY, g, grid_pairs(g)["u"], shear="springs")
+
+
+def test_diagonal_springs_refuse_cells_too_long_for_the_fabric():
+    """Along a cell 2.6 times longer than deep, the diagonals alone are stiffer in stretch
+    than denim's warp: no positive structural stiffness is left."""
+    g = GRIDS[4]
+    assert g.dx / g.dz > 2.5
+    with pytest.raises(MaterialError, match="needs stretch above 370 N/m \\(warp\\)"):
+        membrane_energy(sheared(g), DENIM, g, shear="springs")
+
+
+def test_the_cell_shear_strain_ignores_any_stretch_along_the_grid():
+    g = GRIDS[1]
+    x = g.rest_positions()
+    x[:, 0] *= 1.3
+    x[:, 2] *= 0.8
+    assert np.abs(cell_shear_strain(x, g)).max() < 1e-12
+    assert np.allclose(cell_shear_strain(sheared(g), g), STRAIN)
+
+
+def test_stiffness_is_per_unit_width_so_a_finer_grid_has_softer_edges():
+    """The same fabric: an edge of a grid twice as fine stands for half the width at half
+    the length, so its stiffness is the same, and the compliance of a border edge (half a
+    strip) is twice an interior one's."""
+    coarse, fine = Grid.sheet(1.0, 1.0, 11, 11), Grid.sheet(1.0, 1.0, 21, 21)
+    kc = pair_stiffness(DENIM, coarse, grid_pairs(coarse)["u"])
+    kf = pair_stiffness(DENIM, fine, grid_pairs(fine)["u"])
+    assert np.isclose(kc.max(), kf.max()) and np.isclose(kc.max(), DENIM.stretch_warp)
+    alpha = pair_compliance(DENIM, coarse, grid_pairs(coarse)["u"]).reshape(11, 10)
+    assert np.allclose(alpha[0], 2 * alpha[5]) and np.allclose(alpha[-1], alpha[0])
+
+
+def test_compliance_follows_the_models_edges_in_any_order():
+    n = 9
+    g = Grid.sheet(1.0, 1.0, n, n)
+    edges, family = grid_edges(n, (True, True, False))
+    order = np.random.default_rng(3).permutation(len(edges))
+    edges, family = edges[order], family[order]
+    k = pair_stiffness(DENIM, g, edges, shear="springs")
+    rest = g.rest_positions()
+    length = np.linalg.norm(rest[edges[:, 1]] - rest[edges[:, 0]], axis=1)
+    structural = family == 0
+    # interior structural edges along x: stretch_warp − shear (square cells), along z: weft
+    along_x = structural & np.isclose(np.abs(rest[edges[:, 1], 0] - rest[edges[:, 0], 0]),
+                                      length)
+    inner = along_x & (np.abs(rest[edges[:, 0], 2]) < 0.49)
+    assert np.allclose(k[inner], DENIM.stretch_warp - DENIM.shear)
+    assert np.allclose(k[family == 1], DENIM.shear)
+    with pytest.raises(ValueError, match="is a diagonal"):
+        pair_stiffness(DENIM, g, edges)  # the cells carry shear: no diagonal springs
+    bending_pairs, _ = grid_edges(n, (False, False, True))
+    with pytest.raises(ValueError, match="not a neighbour pair"):
+        pair_stiffness(DENIM, g, bending_pairs)
+
+
+def test_damping_per_substep_does_not_depend_on_the_substeps():
+    rate, frame = 1.7, 1 / 60
+    for substeps in (1, 4, 37):
+        assert damping_factor(rate, frame / substeps) ** substeps == pytest.approx(
+            np.exp(-rate * frame), rel=1e-12)
+    # behavior.damping's 3 % per 18 ms is 1.69/s
+    rate = damping_rate_from_share(0.03, 0.018)
+    assert rate == pytest.approx(1.6922, abs=1e-4)
+    assert damping_factor(rate, 0.018) == pytest.approx(0.97)
+    with pytest.raises(ValueError):
+        damping_rate_from_share(1.0, 0.018)
