@@ -9,7 +9,7 @@ A material is the fabric in SI units, independent of the grid that discretises i
 - `shear` (N/m): in-plane shear stiffness, shear force per unit length per radian of shear.
 - `bending` (N·m): the bending rigidity B, moment per unit width per unit curvature.
 - `damping` (1/s): a viscous drag per unit mass: without other forces a velocity decays as
-  exp(−damping·t), whatever the timestep and substeps (so 0.7/s halves it each second).
+  exp(−damping·t), whatever the timestep and substeps (0.69/s halves it each second).
 - `tear_strength` (N/m, optional): tension per unit width at which the fabric tears.
 
 Pure Python: the scene loader will call `material_from_table` and turn a MaterialError into
