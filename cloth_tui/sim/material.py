@@ -145,6 +145,8 @@ def pair_stiffness(material: Material, grid: Grid, pairs: np.ndarray,
     model's colour-sorted edges). Diagonal pairs are springs only with shear="springs"; any
     other pair (two apart: the distance "bending" family) has no place in a material."""
     pairs = np.asarray(pairs, dtype=np.int64)
+    if len(pairs) and (pairs.min() < 0 or pairs.max() >= grid.num_particles):
+        raise ValueError(f"pairs name particles outside the {grid.rows}×{grid.cols} grid")
     k_u, k_v = structural_stiffness(material, grid, shear)
     a, b = pairs.min(axis=1), pairs.max(axis=1)
     ia, ja = np.divmod(a, grid.cols)

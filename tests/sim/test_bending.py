@@ -170,3 +170,5 @@ def test_the_stencil_compliances_store_the_same_energy(small):
     c = st.apply(x)
     stored = float(((c * c).sum(axis=1) / (2 * bending_compliance(st, B))).sum())
     assert stored == pytest.approx(bending_energy(x, st, B))
+    with pytest.raises(ValueError, match="positive rigidity"):
+        bending_compliance(st, 0.0)

@@ -115,6 +115,8 @@ def test_compliance_follows_the_models_edges_in_any_order():
     bending_pairs, _ = grid_edges(n, (False, False, True))
     with pytest.raises(ValueError, match="not a neighbour pair"):
         pair_stiffness(DENIM, g, bending_pairs)
+    with pytest.raises(ValueError, match="outside the 9×9 grid"):
+        pair_stiffness(DENIM, g, [[n * n - n, n * n]])
 
 
 def test_damping_per_substep_does_not_depend_on_the_substeps():
