@@ -1,8 +1,10 @@
 """The measured-fabric table shipped in the package (presets.toml): loading and checking it.
 
-Each row is a fabric in SI units with the source of its numbers; a row may instead be
-`alias_of` another (a familiar name for a measured fabric). Rows marked `estimate = true`
-are not measurements and say in `note` how their numbers were chosen.
+Each row is a fabric in SI units with the source of its numbers, given either as the
+physical keys (stretch, shear, bending) or as ARCSim stores a measured fabric
+(arcsim_stretching, arcsim_bending), converted here; a row may instead be `alias_of`
+another (a familiar name for a measured fabric). Rows marked `estimate = true` are not
+measurements and say in `note` how their numbers were chosen.
 """
 
 from __future__ import annotations
@@ -19,7 +21,18 @@ from .values import number, stretch_pair
 
 PRESET_FILE = "presets.toml"
 NUMBERS = ("areal_density", "stretch", "shear", "bending", "tear_strength")
-ROW_KEYS = NUMBERS + ("source", "note", "estimate", "alias_of")
+ARCSIM = ("arcsim_stretching", "arcsim_bending")
+ROW_KEYS = NUMBERS + ARCSIM + ("source", "note", "estimate", "alias_of")
+
+# What ARCSim (Narain et al. 2012, with Wang et al. 2011's data-driven model) does with a
+# stored fabric: it doubles each stretching sample C and uses it on the Green strain G as
+# σ = (C11·G00 + C12·G11, ½C33·G01; …), energy ½σ:G per area, so a small strain ε along
+# warp stores ½·(2·C11)·ε² and a shear γ (G01 = γ/2) stores ½·(C33/2)·γ²; its hinge energy
+# k·l²θ²/(8(A₀+A₁)) is (k/4)/2·κ² per area on a bend, a plate of rigidity k/4.
+# tests/materials/test_arcsim.py evaluates those formulas to check the factors.
+ARCSIM_STRETCH_FACTOR = 2.0
+ARCSIM_SHEAR_FACTOR = 0.5
+ARCSIM_BENDING_FACTOR = 0.25
 
 
 @dataclasses.dataclass(frozen=True)
@@ -35,6 +48,24 @@ class Preset:
     note: str = ""
     tear_strength: float | None = None  # N/m
     alias_of: str = ""            # the measured row this name stands for, "" for a row
+    arcsim_stretching: tuple | None = None  # (C11, C12, C22, C33) as stored, if so given
+    arcsim_bending: float | None = None     # k as stored, if so given
+
+
+def from_arcsim(stretching, bending: float, where: str) -> tuple[float, float, float, float]:
+    """(warp, weft, shear, B) of a fabric as ARCSim stores it: [C11, C12, C22, C33] (N/m)
+    and its hinge stiffness k (N·m)."""
+    if (not isinstance(stretching, list) or len(stretching) != 4
+            or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in stretching)):
+        raise MaterialError(f"{where}: arcsim_stretching = {short_repr(stretching)} must be "
+                            "[C11, C12, C22, C33], four numbers")
+    c11, _, c22, c33 = stretching
+    warp = number("stretch", ARCSIM_STRETCH_FACTOR * c11, where)
+    weft = number("stretch", ARCSIM_STRETCH_FACTOR * c22, where)
+    shear = number("shear", ARCSIM_SHEAR_FACTOR * c33, where)
+    if isinstance(bending, bool) or not isinstance(bending, (int, float)):
+        raise MaterialError(f"{where}: arcsim_bending = {short_repr(bending)} must be a number")
+    return warp, weft, shear, number("bending", ARCSIM_BENDING_FACTOR * bending, where)
 
 
 def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
@@ -57,7 +88,12 @@ def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
                 raise MaterialError(f"{here}: an alias has only alias_of = \"ROW\"")
             aliases[name] = row["alias_of"]
             continue
-        missing = [k for k in NUMBERS[:4] + ("source",) if k not in row]
+        arcsim = any(k in row for k in ARCSIM)
+        given = ("areal_density",) + (ARCSIM if arcsim else ("stretch", "shear", "bending"))
+        if arcsim and any(k in row for k in ("stretch", "shear", "bending")):
+            raise MaterialError(f"{here}: give stretch, shear and bending or arcsim_stretching "
+                                "and arcsim_bending, not both")
+        missing = [k for k in given + ("source",) if k not in row]
         if missing:
             raise MaterialError(f"{here} lacks {', '.join(missing)}")
         for k in ("source", "note"):
@@ -69,14 +105,21 @@ def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
             raise MaterialError(f"{here}: estimate must be true or false")
         if estimate and not row.get("note"):
             raise MaterialError(f"{here}: an estimate must say in `note` how it was made")
-        warp, weft = stretch_pair(row["stretch"], here)
+        if arcsim:
+            warp, weft, shear, bending = from_arcsim(row["arcsim_stretching"],
+                                                     row["arcsim_bending"], here)
+        else:
+            warp, weft = stretch_pair(row["stretch"], here)
+            shear = number("shear", row["shear"], here)
+            bending = number("bending", row["bending"], here)
         rows[name] = Preset(
             name=name, areal_density=number("areal_density", row["areal_density"], here),
-            stretch_warp=warp, stretch_weft=weft, shear=number("shear", row["shear"], here),
-            bending=number("bending", row["bending"], here), source=row["source"],
-            estimate=estimate, note=row.get("note", ""),
+            stretch_warp=warp, stretch_weft=weft, shear=shear, bending=bending,
+            source=row["source"], estimate=estimate, note=row.get("note", ""),
             tear_strength=(number("tear_strength", row["tear_strength"], here)
-                           if "tear_strength" in row else None))
+                           if "tear_strength" in row else None),
+            arcsim_stretching=tuple(row["arcsim_stretching"]) if arcsim else None,
+            arcsim_bending=row["arcsim_bending"] if arcsim else None)
     for name, target in aliases.items():
         if target not in rows:
             raise MaterialError(f"{where}: [{name}] is alias_of {target!r}, which is not a "
