@@ -10,7 +10,7 @@ import pytest
 from cloth_tui.materials.presets import load_presets
 from cloth_tui.sim.bending import bending_energy, bending_stencils
 from cloth_tui.sim.material import Grid
-from tests.sim.bent_sheets import cylinder, hinge_sum
+from ..sim.bent_sheets import cylinder, hinge_sum
 
 WANG = [p for p in load_presets().values() if p.arcsim_stretching and not p.alias_of]
 
