@@ -139,36 +139,61 @@ def structural_stiffness(material: Material, grid: Grid, shear: str = "cells") -
     return warp * grid.row_share() / grid.dx, weft * grid.col_share() / grid.dz
 
 
+ALONG_X, ALONG_Z, DIAGONAL, OTHER = 0, 1, 2, -1
+
+
+def pair_kinds(grid: Grid, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For (M, 2) pairs of particles in any order: each pair's kind (ALONG_X, ALONG_Z,
+    DIAGONAL or OTHER) and the row and column of its lower particle."""
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    if len(pairs) and (pairs.min() < 0 or pairs.max() >= grid.num_particles):
+        raise ValueError(f"pairs name particles outside the {grid.rows}×{grid.cols} grid")
+    a, b = pairs.min(axis=1), pairs.max(axis=1)
+    ia, ja = np.divmod(a, grid.cols)
+    ib, jb = np.divmod(b, grid.cols)
+    di, dj = ib - ia, jb - ja
+    kind = np.full(len(pairs), OTHER, dtype=np.int8)
+    kind[(di == 0) & (dj == 1)] = ALONG_X
+    kind[(di == 1) & (dj == 0)] = ALONG_Z
+    kind[(di == 1) & (np.abs(dj) == 1)] = DIAGONAL
+    return kind, ia, ja
+
+
+def _refuse(pairs, kind, allowed, grid: Grid) -> None:
+    bad = ~np.isin(kind, allowed)
+    if bad.any():
+        e = int(np.flatnonzero(bad)[0])
+        what = ("a diagonal (shear is in the cells)" if kind[e] == DIAGONAL
+                else "not a neighbour pair")
+        raise ValueError(f"pair {tuple(int(p) for p in np.asarray(pairs)[e])} of a "
+                         f"{grid.rows}×{grid.cols} grid is {what}")
+
+
+def strip_width(grid: Grid, pairs: np.ndarray) -> np.ndarray:
+    """(M,) m: the width of sheet each structural pair stands for, across its direction
+    (its row's height for an edge along x, its column's width along z; half on a border)."""
+    kind, i, j = pair_kinds(grid, pairs)
+    _refuse(pairs, kind, (ALONG_X, ALONG_Z), grid)
+    return np.where(kind == ALONG_X, grid.row_share()[i], grid.col_share()[j])
+
+
+def tension_per_width(force: np.ndarray, grid: Grid, pairs: np.ndarray) -> np.ndarray:
+    """(M,) N/m: the tension per unit width that structural pairs carrying `force` (N) stand
+    for, what tear_strength is compared with."""
+    return np.asarray(force, dtype=float) / strip_width(grid, pairs)
+
+
 def pair_stiffness(material: Material, grid: Grid, pairs: np.ndarray,
                    shear: str = "cells") -> np.ndarray:
     """(M,) N/m for any (M, 2) array of neighbour pairs of the grid, in any order (such as a
     model's colour-sorted edges). Diagonal pairs are springs only with shear="springs"; any
     other pair (two apart: the distance "bending" family) has no place in a material."""
-    pairs = np.asarray(pairs, dtype=np.int64)
-    if len(pairs) and (pairs.min() < 0 or pairs.max() >= grid.num_particles):
-        raise ValueError(f"pairs name particles outside the {grid.rows}×{grid.cols} grid")
     k_u, k_v = structural_stiffness(material, grid, shear)
-    a, b = pairs.min(axis=1), pairs.max(axis=1)
-    ia, ja = np.divmod(a, grid.cols)
-    ib, jb = np.divmod(b, grid.cols)
-    di, dj = ib - ia, jb - ja
-    along_x = (di == 0) & (dj == 1)
-    along_z = (di == 1) & (dj == 0)
-    diagonal = (di == 1) & (np.abs(dj) == 1)
-    out = np.zeros(len(pairs))
-    out[along_x] = k_u[ia[along_x]]
-    out[along_z] = k_v[ja[along_z]]
-    if shear == "springs":
-        out[diagonal] = diagonal_spring_stiffness(material, grid)
-        known = along_x | along_z | diagonal
-    else:
-        known = along_x | along_z
-    if not known.all():
-        e = int(np.flatnonzero(~known)[0])
-        kind = "a diagonal (shear is in the cells)" if diagonal[e] else "not a neighbour pair"
-        raise ValueError(f"pair {tuple(int(p) for p in pairs[e])} of a {grid.rows}×{grid.cols} "
-                         f"grid is {kind}")
-    return out
+    kind, i, j = pair_kinds(grid, pairs)
+    _refuse(pairs, kind, (ALONG_X, ALONG_Z, DIAGONAL) if shear == "springs"
+            else (ALONG_X, ALONG_Z), grid)
+    out = np.where(kind == ALONG_X, k_u[i], k_v[j])
+    return np.where(kind == DIAGONAL, diagonal_spring_stiffness(material, grid), out)
 
 
 def pair_compliance(material: Material, grid: Grid, pairs: np.ndarray,

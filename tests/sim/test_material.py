@@ -9,7 +9,8 @@ from cloth_tui.materials.errors import MaterialError
 from cloth_tui.materials.schema import material_from_table
 from cloth_tui.sim.material import (Grid, cell_shear_strain, damping_factor,
                                     damping_rate_from_share, grid_pairs, lumped_masses,
-                                    membrane_energy, pair_compliance, pair_stiffness)
+                                    membrane_energy, pair_compliance, pair_stiffness,
+                                    tension_per_width)
 from cloth_tui.sim.model import grid_edges
 
 DENIM = material_from_table({"preset": "denim"})      # shear well below stretch
@@ -134,3 +135,20 @@ def test_damping_per_substep_does_not_depend_on_the_substeps():
     assert damping_factor(rate, 0.018) == pytest.approx(0.97)
     with pytest.raises(ValueError):
         damping_rate_from_share(1.0, 0.018)
+
+
+def test_a_uniform_tension_is_the_same_per_unit_width_on_every_edge():
+    """Stretched by ε along x, every edge along x, border rows (half strips, half stiffness)
+    included, carries stretch·ε per unit width: the number tear_strength will be compared
+    with, the same at every resolution."""
+    for g in GRIDS:
+        pairs = grid_pairs(g)["u"]
+        x = stretched(g, 0)
+        rest = g.rest_positions()
+        extension = (np.linalg.norm(x[pairs[:, 1]] - x[pairs[:, 0]], axis=1)
+                     - np.linalg.norm(rest[pairs[:, 1]] - rest[pairs[:, 0]], axis=1))
+        force = pair_stiffness(DENIM, g, pairs) * extension
+        assert np.allclose(tension_per_width(force, g, pairs), DENIM.stretch_warp * STRAIN,
+                           rtol=1e-6)
+    with pytest.raises(ValueError, match="is a diagonal"):
+        tension_per_width([1.0], GRIDS[0], grid_pairs(GRIDS[0])["diagonal"][:1])
