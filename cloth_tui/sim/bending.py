@@ -14,7 +14,9 @@ Stencils, each a 3-vector D_s·x with a weight w_s (m²):
 - x_uv on each cell: (x_{i+1,j+1} − x_{i+1,j} − x_{i,j+1} + x_{i,j})/(dx·dz), counted twice.
 A stencil's weight is the area whose curvature it stands for: its particle's dual cell, and
 for a stencil next to a border also the half-cell strip beyond it, which has no stencil of
-its own; so a uniform curvature's energy is exact up to the border.
+its own; so a uniform curvature's energy is exact up to the border. A clamp therefore holds
+three columns, not two: the hinge at its edge must not be a border stencil (measured in
+tests/sim/test_bending_cantilever.py).
 
 Pure numpy; not wired into the solver yet.
 """
@@ -49,6 +51,8 @@ def _second_difference_weights(count: int, spacing: float) -> np.ndarray:
 
 
 def bending_stencils(grid: Grid) -> Stencils:
+    """Every second-derivative stencil of the grid with its weight: built once per grid
+    (the energy's Hessian is constant)."""
     idx = np.arange(grid.num_particles).reshape(grid.rows, grid.cols)
     rows_w, cols_w = grid.row_share(), grid.col_share()
     parts, coeffs, weights = [], [], []
