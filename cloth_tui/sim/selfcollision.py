@@ -231,6 +231,17 @@ def resolve_pairs(x, inv_mass, pairs, count, dist):
         x[b, 2] += wb * s * dz
 
 
+def hash_stride(table: int, cells_x: float, cells_z: float) -> int:
+    """_bucket's stride between rows of cells, for a flat sheet `cells_x` × `cells_z` cells
+    wide, chosen so that its cells get distinct buckets: about √table apart (a square sheet's
+    rows fit side by side), or, where the sheet's rows are longer than that (a wide strip) or
+    more (a long one, whose rows would wrap round the table onto each other), its own row of
+    cells, the rows packed one after another. Odd, so that rows do not repeat a pattern."""
+    row, rows = math.ceil(cells_x) + 1, math.ceil(cells_z) + 1  # a flat sheet's cells
+    stride = max(math.isqrt(table), row)
+    return (stride if stride * rows <= table else row) | 1
+
+
 class SelfCollision:
     """The self-collision effect; `method` is "naive" or "hash". Buffers are allocated once
     (the pair buffer grows, rarely, when a substep finds more pairs than it holds)."""
@@ -247,7 +258,8 @@ class SelfCollision:
         num = model.num_particles
         table = 1 << max(4, int(num - 1).bit_length())  # power of two ≥ N
         self.mask = table - 1
-        self.stride_z = math.isqrt(table) | 1  # a flat sheet's cells get distinct buckets
+        self.stride_z = hash_stride(table, model.width * self.inv_cell,
+                                    model.length * self.inv_cell)
         self.stride_y = self.stride_z + 2
         self.cell_start = np.zeros(table + 1, np.int32)  # int32: half the cache traffic
         self.cell_particles = np.zeros(num, np.int32)

@@ -239,3 +239,20 @@ def test_a_torn_neighbour_pair_collides_and_an_intact_one_does_not(method, offse
     state.x, state.alive = x.copy(), np.ones(m.num_constraints, np.uint8)
     sc.apply(state, 0.0)
     np.testing.assert_array_equal(state.x[[a, b]], x[[a, b]])  # intact: the constraint's job
+
+
+@pytest.mark.parametrize("shape, size", [([256, 16], [4.0, 0.235]), ([16, 256], [0.235, 4.0]),
+                                         ([512, 8], [8.0, 0.11])])
+def test_spatial_hash_buckets_of_a_strip_are_as_small_as_a_squares(shape, size):
+    # 4096 particles as a square and as strips both ways: the strips' rows of cells must not
+    # fold onto each other in the table.
+    square, x = sheet_with_contacts(64)
+    sc = selfcollision.SelfCollision(square, "hash")
+    sc.find_pairs(x)
+    m = model(shape, cloth__size=size)
+    y = np.array(m.rest_positions)
+    y += np.random.default_rng(0).normal(0, 0.3 * m.spacing, y.shape)
+    strip = selfcollision.SelfCollision(m, "hash")
+    strip.find_pairs(y)
+    assert bucket_load(strip) < 1.15 * bucket_load(sc)
+    assert strip.pair_set(y) == selfcollision.SelfCollision(m, "naive").pair_set(y)
