@@ -313,7 +313,7 @@ def describe_allowed(f: dataclasses.Field) -> str:
     if m["kind"].startswith("vec3"):
         return ("[x, y, z] of numbers within ±1e+06" +
                 (f", of length ≥ {MIN_DIRECTION_NORM:g}" if "nonzero" in m["kind"] else ""))
-    t = _base_type(f)
+    t = value_type(f)
     lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
     hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
     kind = {"bool": "true or false", "int": "an integer", "float": "a number",
@@ -324,9 +324,9 @@ def describe_allowed(f: dataclasses.Field) -> str:
     return one
 
 
-def _base_type(f: dataclasses.Field) -> str:
-    """The declared type's name; for a key that also takes a pair (`float | list`), the type
-    of one entry."""
+def value_type(f: dataclasses.Field) -> str:
+    """The declared type's name ("int", "float", ...); for a key that also takes a pair
+    (`float | list`), the type of one number."""
     t = f.type if isinstance(f.type, str) else f.type.__name__
     return t.split("|")[0].strip()
 
@@ -334,7 +334,7 @@ def _base_type(f: dataclasses.Field) -> str:
 def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     """Check one value against its declaration; return it in its canonical Python type."""
     f = {f.name: f for f in dataclasses.fields(section_obj)}[name]
-    m, t = f.metadata, _base_type(f)
+    m, t = f.metadata, value_type(f)
 
     def bad(reason: str = "") -> SceneError:
         shown = short_repr(value)

@@ -76,7 +76,7 @@ def _number(rng: random.Random, f: dataclasses.Field) -> float | int:
         v = math.exp(rng.uniform(math.log(lo_pos), math.log(hi)))
     else:
         v = rng.uniform(lo, hi)
-    if f.type in ("int", int) or str(f.type).startswith("int |"):  # int | list: the number
+    if sc.value_type(f) == "int":
         v = int(round(v))
     elif m["lo_open"] and v == lo:
         v = lo + abs(lo) * 1e-9 + 1e-12

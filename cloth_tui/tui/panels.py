@@ -18,7 +18,7 @@ from textual.message import Message
 from textual.widget import Widget
 from textual.widgets import Button, Collapsible, Input, Label, Select, Static, Switch
 
-from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec
+from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec, value_type
 
 TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
@@ -64,7 +64,7 @@ def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) ->
     field's declaration, for keys outside the scene's sections (an object's)."""
     f = spec or key_spec(dotted)
     kind = f.metadata["kind"]
-    t = (f.type if isinstance(f.type, str) else f.type.__name__).split("|")[0].strip()
+    t = value_type(f)
     text = text.strip()
     if kind.startswith("vec3"):
         parts = [p for p in re.split(r"[,\s]+", text.strip("[]() ")) if p]
