@@ -464,18 +464,18 @@ def _check_grid(cloth: Cloth) -> tuple[int, int]:
     row has no cells). Neither side can exceed MAX_RESOLUTION: a pair's entries are checked
     against it, and an integer resolution gives the shorter side no more than the longer."""
     nx, nz = cloth.grid_shape()
-    for axis, count in (("x", nx), ("z", nz)):
+    for axis, count, line in (("x", nx, "column"), ("z", nz, "row")):
         if count < 2:
             width, length = cloth.dimensions()
-            raise SceneError(f"cloth.size = {toml_list(cloth.size)} at cloth.resolution = "
-                             f"{toml_list(cloth.resolution)} gives a single row of particles "
-                             f"along {axis} ({width:g} m × {length:g} m at "
+            raise SceneError(f"cloth.size = {_toml_text(cloth.size)} at cloth.resolution = "
+                             f"{_toml_text(cloth.resolution)} makes a sheet of a single {line} "
+                             f"(1 particle along {axis}: {width:g} m × {length:g} m with "
                              f"{max(nx, nz)} along the longer side); raise cloth.resolution or "
                              "give [nx, nz] with at least 2 along each side")
     return nx, nz
 
 
-def toml_list(value: Any) -> str:
+def _toml_text(value: Any) -> str:
     """A number or a list of numbers as written in a scene file."""
     if isinstance(value, list):
         return "[" + ", ".join(f"{v:g}" for v in value) + "]"

@@ -172,10 +172,12 @@ def test_a_sheet_so_thin_it_has_one_row_is_refused():
     # 1 m × 1 cm at 26 along x: 4 cm apart, so the width holds a quarter of a spacing.
     with pytest.raises(SceneError) as e:
         sf.loads("[cloth]\nsize = [1.0, 0.01]\nresolution = 26\n")
-    assert "single row" in str(e.value) and "along z" in str(e.value)
+    assert "single row" in str(e.value) and "1 particle along z" in str(e.value)
     assert "\n" not in str(e.value)
     s = sf.loads("[cloth]\nsize = [1.0, 0.01]\nresolution = [26, 2]\n")  # counts given: fine
     assert s.cloth.grid_shape() == (26, 2)
+    with pytest.raises(SceneError, match="single column"):
+        sf.loads("[cloth]\nsize = [0.01, 1.0]\nresolution = 26\n")
 
 
 def test_naive_self_collision_is_bounded_by_particles_on_any_shape():
