@@ -93,7 +93,7 @@ def _held_positions(scene: Scene, model: ClothModel) -> list[np.ndarray]:
     b = scene.behavior
     if not b.wave or b.wave_amplitude == 0.0:
         return [rest[model.pinned]]
-    driven = np.isin(model.pinned, wave_rows(model.n)[0])
+    driven = np.isin(model.pinned, wave_rows(model.nx, model.nz)[0])
     out = []
     for dy in np.linspace(-b.wave_amplitude, b.wave_amplitude, WAVE_SAMPLES):
         points = rest[model.pinned].copy()

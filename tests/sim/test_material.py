@@ -100,28 +100,32 @@ def test_stiffness_is_per_unit_width_so_a_finer_grid_has_softer_edges():
 
 
 def test_compliance_follows_the_models_edges_in_any_order():
-    n = 9
-    g = Grid.sheet(1.0, 1.0, n, n)
-    edges, family = grid_edges(n, (True, True, False))
+    nx, nz = 9, 6  # a rectangular sheet: rows and columns cannot be mixed up unnoticed
+    g = Grid.sheet(1.0, 0.6, nx, nz)
+    edges, family = grid_edges(nx, nz, (True, True, False))
     order = np.random.default_rng(3).permutation(len(edges))
     edges, family = edges[order], family[order]
     k = pair_stiffness(DENIM, g, edges, shear="springs")
-    rest = g.rest_positions()
-    length = np.linalg.norm(rest[edges[:, 1]] - rest[edges[:, 0]], axis=1)
-    structural = family == 0
-    # interior structural edges along x: stretch_warp − shear (square cells), along z: weft
-    along_x = structural & np.isclose(np.abs(rest[edges[:, 1], 0] - rest[edges[:, 0], 0]),
-                                      length)
-    inner = along_x & (np.abs(rest[edges[:, 0], 2]) < 0.49)
-    assert np.allclose(k[inner], DENIM.stretch_warp - DENIM.shear)
-    assert np.allclose(k[family == 1], DENIM.shear)
+    i, j = np.divmod(edges, nx)
+    along_x = (family == 0) & (i[:, 0] == i[:, 1])
+    along_z = (family == 0) & (j[:, 0] == j[:, 1])
+    inner_x = along_x & (i[:, 0] > 0) & (i[:, 0] < nz - 1)
+    inner_z = along_z & (j[:, 0] > 0) & (j[:, 0] < nx - 1)
+    # interior structural edges: stretch less what the diagonals add, times strip / length
+    assert np.allclose(k[inner_x], (DENIM.stretch_warp - DENIM.shear * (g.dx / g.dz) ** 2)
+                       * g.dz / g.dx)
+    assert np.allclose(k[inner_z], (DENIM.stretch_weft - DENIM.shear * (g.dz / g.dx) ** 2)
+                       * g.dx / g.dz)
+    assert np.allclose(k[along_x & ~inner_x], k[inner_x][0] / 2)  # border rows: half strips
+    assert np.allclose(k[family == 1], DENIM.shear * (g.dx ** 2 + g.dz ** 2)
+                       / (2 * g.dx * g.dz))
     with pytest.raises(ValueError, match="is a diagonal"):
         pair_stiffness(DENIM, g, edges)  # the cells carry shear: no diagonal springs
-    bending_pairs, _ = grid_edges(n, (False, False, True))
+    bending_pairs, _ = grid_edges(nx, nz, (False, False, True))
     with pytest.raises(ValueError, match="not a neighbour pair"):
         pair_stiffness(DENIM, g, bending_pairs)
-    with pytest.raises(ValueError, match="outside the 9×9 grid"):
-        pair_stiffness(DENIM, g, [[n * n - n, n * n]])
+    with pytest.raises(ValueError, match="outside the 6×9 grid"):
+        pair_stiffness(DENIM, g, [[nx * nz - nx, nx * nz]])
 
 
 def test_damping_per_substep_does_not_depend_on_the_substeps():
