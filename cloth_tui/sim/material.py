@@ -1,7 +1,7 @@
 """A material (cloth_tui.materials: SI units) discretised on a regular grid of particles.
 
 The grid has `rows` particles along z and `cols` along x, spacings dz and dx; particle
-(row i, column j) has index i·cols + j, as in model.py. Everything here follows from the
+(row i, column j) has index i·cols + j, as in model.py (`Grid.of_model`). Everything here follows from the
 material and the rest geometry alone, so that the same fabric behaves the same at every
 resolution (docs/physics.md, "Materials in SI units", derives each formula):
 
@@ -45,6 +45,11 @@ class Grid:
     @classmethod
     def sheet(cls, width: float, depth: float, cols: int, rows: int) -> "Grid":
         return cls(rows=rows, cols=cols, dx=width / (cols - 1), dz=depth / (rows - 1))
+
+    @classmethod
+    def of_model(cls, model) -> "Grid":
+        """The grid of a ClothModel (nz rows of nx particles, index i·nx + j)."""
+        return cls(rows=model.nz, cols=model.nx, dx=model.spacing_x, dz=model.spacing_z)
 
     @property
     def num_particles(self) -> int:

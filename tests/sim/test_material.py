@@ -11,7 +11,8 @@ from cloth_tui.sim.material import (Grid, cell_shear_strain, damping_factor,
                                     damping_rate_from_share, grid_pairs, lumped_masses,
                                     membrane_energy, pair_compliance, pair_stiffness,
                                     tension_per_width)
-from cloth_tui.sim.model import grid_edges
+from cloth_tui.scene import Scene
+from cloth_tui.sim.model import build_model, grid_edges
 
 DENIM = material_from_table({"preset": "denim"})      # shear well below stretch
 SWEAT = material_from_table({"preset": "wang2011-navy-sparkle-sweat"})  # shear > weft
@@ -97,6 +98,16 @@ def test_stiffness_is_per_unit_width_so_a_finer_grid_has_softer_edges():
     assert np.isclose(kc.max(), kf.max()) and np.isclose(kc.max(), DENIM.stretch_warp)
     alpha = pair_compliance(DENIM, coarse, grid_pairs(coarse)["u"]).reshape(11, 10)
     assert np.allclose(alpha[0], 2 * alpha[5]) and np.allclose(alpha[-1], alpha[0])
+
+
+def test_the_grid_of_a_model_is_the_models_sheet():
+    scene = Scene().with_values({"cloth.size": [1.2, 0.5], "cloth.resolution": 25})
+    model = build_model(scene.cloth, scene.behavior)
+    g = Grid.of_model(model)
+    assert (g.cols, g.rows) == (model.nx, model.nz) and g.cols != g.rows
+    expected = model.rest_positions - [0.0, scene.cloth.height, 0.0]
+    assert np.allclose(g.rest_positions(), expected)
+    assert np.allclose(lumped_masses(g, 0.2 / g.area), model.mass)  # "area" masses alike
 
 
 def test_compliance_follows_the_models_edges_in_any_order():
