@@ -1,15 +1,16 @@
 """A material (cloth_tui.materials: SI units) discretised on a regular grid of particles.
 
 The grid has `rows` particles along z and `cols` along x, spacings dz and dx; particle
-(row i, column j) has index i·cols + j, as in model.py (`Grid.of_model`). Everything here follows from the
-material and the rest geometry alone, so that the same fabric behaves the same at every
-resolution (docs/physics.md, "Materials in SI units", derives each formula):
+(row i, column j) has index i·cols + j, as in model.py (`Grid.of_model`). Everything here
+follows from the material and the rest geometry alone, so that the same fabric behaves the
+same at every resolution (docs/physics.md, "Materials in SI units", derives each formula):
 
 - lumped masses: areal density × the particle's dual cell;
 - the membrane: XPBD compliance α = 1/k (m/N) per structural edge from the stretch
   stiffness and the strip of sheet the edge stands for, and shear either as diagonal springs
   (`shear="springs"`, today's distance-constraint kernel) or as one shear-strain constraint
   per cell (`shear="cells"`, any fabric, needs a kernel of its own);
+- tearing's measure: the tension per unit width a structural edge's force stands for;
 - damping: a decay rate in 1/s applied as a factor per substep, so it does not depend on
   the substep length.
 
