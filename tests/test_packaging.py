@@ -64,3 +64,16 @@ def test_installed_wheel_finds_its_scenes_outside_the_checkout(wheel, tmp_path):
     assert scenes.split() == sorted(f.stem for f in (ROOT / "assets" / "scenes").glob("*.toml"))
     assert int(resolution) > 1
     assert mesh_found == "True"  # the built-in mesh scene's file, relative to the scene
+
+
+def test_installed_wheel_reads_its_fabric_table(wheel, tmp_path):
+    assert "cloth_tui/materials/presets.toml" in zipfile.ZipFile(wheel).namelist()
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel).extractall(site)
+    code = ("import cloth_tui.materials.presets as p; print(p.__file__); "
+            "print(p.get_preset('denim').areal_density)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       cwd=tmp_path, env=dict(os.environ, PYTHONPATH=str(site)), timeout=120)
+    assert p.returncode == 0, p.stderr
+    module, density = p.stdout.splitlines()
+    assert module.startswith(str(site)) and float(density) == 0.324

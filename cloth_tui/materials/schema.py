@@ -1,0 +1,89 @@
+"""The `[material]` section: what each key means, its unit and range, and its validation.
+
+A material is the fabric in SI units, independent of the grid that discretises it:
+
+- `preset`: a row of the measured-fabric table (presets.toml); the other keys override it.
+- `areal_density` (kg/m²): mass per unit area; the sheet's mass is density × area.
+- `stretch` (N/m): the membrane's tensile stiffness, tension per unit width per unit strain,
+  one number or [warp, weft] (warp along the grid's x, weft along its z).
+- `shear` (N/m): in-plane shear stiffness, shear force per unit length per radian of shear.
+- `bending` (N·m): the bending rigidity B, moment per unit width per unit curvature.
+- `damping` (1/s): a viscous drag per unit mass: without other forces a velocity decays as
+  exp(−damping·t), whatever the timestep and substeps (0.69/s halves it each second).
+- `tear_strength` (N/m, optional): tension per unit width at which the fabric tears.
+
+Pure Python: the scene loader will call `material_from_table` and turn a MaterialError into
+its SceneError (this module cannot import scene.py, which will import it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from ..user_values import short_repr
+from .errors import MaterialError
+from .presets import get_preset, preset_names
+from .values import KEYS, number, stretch_pair
+
+ALL_KEYS = ("preset",) + tuple(KEYS)
+NEEDED_WITHOUT_PRESET = ("areal_density", "stretch", "shear", "bending")
+
+
+@dataclass(frozen=True)
+class Material:
+    areal_density: float           # kg/m²
+    stretch_warp: float            # N/m, along the grid's x (columns)
+    stretch_weft: float            # N/m, along the grid's z (rows)
+    shear: float                   # N/m per radian of shear
+    bending: float                 # N·m
+    damping: float = 0.0           # 1/s
+    tear_strength: float | None = None  # N/m
+    preset: str = ""               # the preset it started from, "" for none
+
+
+def material_from_table(table: Any, where: str = "material") -> Material:
+    """Validate a `[material]` table (as parsed from TOML or built from `--set` values) and
+    return the Material it describes. Raises MaterialError naming the key and what is
+    allowed."""
+    if not isinstance(table, dict):
+        raise MaterialError(f"[{where}] must be a table, got {type(table).__name__}")
+    unknown = [k for k in table if k not in ALL_KEYS]
+    if unknown:
+        raise MaterialError(f"unknown key {where}.{unknown[0]}: [{where}] has "
+                            f"{', '.join(ALL_KEYS)}")
+    values: dict[str, Any] = {}
+    preset_name = ""
+    if "preset" in table:
+        preset_name = table["preset"]
+        if not isinstance(preset_name, str):
+            raise MaterialError(f"{where}.preset = {short_repr(preset_name)} is not allowed; "
+                                f"expected one of {', '.join(preset_names())}")
+        p = get_preset(preset_name, where)
+        values = dict(areal_density=p.areal_density, stretch=(p.stretch_warp, p.stretch_weft),
+                      shear=p.shear, bending=p.bending, tear_strength=p.tear_strength)
+    else:
+        missing = [k for k in NEEDED_WITHOUT_PRESET if k not in table]
+        if missing:
+            raise MaterialError(f"[{where}] without a preset needs "
+                                f"{', '.join(NEEDED_WITHOUT_PRESET)} (missing: "
+                                f"{', '.join(missing)}); or set {where}.preset")
+    for name in KEYS:
+        if name not in table:
+            continue
+        if name == "stretch":
+            values[name] = stretch_pair(table[name], where)
+        else:
+            values[name] = number(name, table[name], where)
+    warp, weft = values["stretch"]
+    return Material(areal_density=values["areal_density"], stretch_warp=warp,
+                    stretch_weft=weft, shear=values["shear"], bending=values["bending"],
+                    damping=values.get("damping", 0.0),
+                    tear_strength=values.get("tear_strength"), preset=preset_name)
+
+
+def bending_length(material: Material, gravity: float = 9.81) -> float:
+    """Peirce's bending length c = (B / (ρ_A g))^⅓ in metres: the fabric's own scale, half
+    the overhang of the ASTM D1388 cantilever test."""
+    return math.cbrt(material.bending / (material.areal_density * gravity))
