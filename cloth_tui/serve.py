@@ -14,6 +14,7 @@ import os
 import shlex
 import socket
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -84,10 +85,13 @@ def start_lines(host: str, port: int, captures_dir: Path) -> list[str]:
 
 def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
     import asyncio
+    import logging
     import signal
 
     from aiohttp import web
     from textual_serve.server import Server
+
+    visits: set[asyncio.Task] = set()  # one per open page: its websocket's handler
 
     class ClothServer(Server):
         def serve(self, debug: bool = False) -> None:
@@ -95,6 +99,8 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             bound (a taken port fails before any of them), and a fresh event loop."""
             self.debug = debug
             self.initialize_logging()
+            # one line per visitor (handle_websocket) says more than aiohttp's request log
+            logging.getLogger("aiohttp.access").setLevel(logging.WARNING)
             loop = asyncio.new_event_loop()
             for sig in (signal.SIGINT, signal.SIGTERM):
                 loop.add_signal_handler(sig, self.request_exit)
@@ -107,6 +113,24 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
 
         async def on_startup(self, app) -> None:
             """Nothing: textual-serve prints its banner here, before the port is bound."""
+
+        async def handle_websocket(self, request):
+            """One visitor's app, from the page's connection until it closes."""
+            task = asyncio.current_task()
+            visits.add(task)
+            _log(f"{request.remote} opened the app ({len(visits)} running)")
+            try:
+                return await super().handle_websocket(request)
+            finally:
+                visits.discard(task)
+                _log(f"{request.remote} left: its app stopped ({len(visits)} running)")
+
+        async def on_shutdown(self, app) -> None:
+            """Ctrl+C: end every visit now; each one's handler then tells its app to quit
+            and waits for it (aiohttp waits for the handlers). Left alone, the open pages
+            held the server's exit for ~20 s, or it exited with their apps still running."""
+            for task in list(visits):
+                task.cancel()
 
         async def handle_index(self, request):
             """The page connects its websocket back to the address the browser used: with
@@ -134,6 +158,10 @@ def run_serve(args) -> int:
         raise UsageError(f"cannot listen on {args.host}:{args.port}: "
                          f"{_reason(e)}") from None
     return 0
+
+
+def _log(text: str) -> None:
+    print(f"{time.strftime('%H:%M:%S')} {text}", flush=True)
 
 
 def _reason(error: OSError) -> str:

@@ -134,11 +134,35 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
     asyncio.run(go())
 
 
-def test_serve_starts_on_localhost_and_stops_on_ctrl_c(tmp_path):
+def test_a_visitor_gets_an_app_and_ctrl_c_to_the_server_alone_ends_it(tmp_path):
+    """The page's websocket, without a browser: the visitor's own app answers in half-blocks;
+    SIGINT to the server only (`kill -INT`) still ends that app, and promptly (the visit
+    would otherwise hold the exit for as long as the page stays open)."""
+    import aiohttp
+
     async def go():
-        server, said = await start_server(tmp_path, "--port", str(free_port()))
+        port = free_port()
+        server, said = await start_server(tmp_path, "--port", str(port))
         assert "localhost only" in said[1] and "Ctrl+C" in said[-1]
-        assert await interrupt(server) == 0
+        screen = bytearray()
+        try:
+            async with aiohttp.ClientSession() as http:
+                url = f"ws://localhost:{port}/ws?width=160&height=48"
+                async with http.ws_connect(url) as ws:
+                    async def until_status():
+                        async for message in ws:
+                            if message.type == aiohttp.WSMsgType.BINARY:
+                                screen.extend(message.data)
+                                if "blocks truecolor" in screen_text(bytes(screen)):
+                                    return
+                    await asyncio.wait_for(until_status(), START_S)
+                    server.send_signal(signal.SIGINT)
+                    code = await asyncio.wait_for(server.wait(), 30)
+        finally:
+            if server.returncode is None:
+                os.killpg(server.pid, signal.SIGKILL)
+        assert code == 0
+        assert os_process_group_gone(server.pid)  # the app is gone with it
         assert (tmp_path / "captures").is_dir()
 
     asyncio.run(go())
