@@ -23,6 +23,7 @@ NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"
 FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync",
          "--remote-debugging-port=0")
+_draining: set[asyncio.Task] = set()  # referenced, so not collected while they run
 LISTENING = re.compile(r"DevTools listening on (ws://\S+)")
 
 # Keys as Chromium's Input.dispatchKeyEvent wants them: (key, code, virtual key code, text).
@@ -67,7 +68,7 @@ class Chromium:
             process.kill()
             await process.wait()
             raise
-        asyncio.create_task(_drain(process.stderr))  # a full pipe would stall the browser
+        _draining.add(asyncio.create_task(_drain(process.stderr)))  # a full pipe stalls it
         http = aiohttp.ClientSession()
         ws = await http.ws_connect(url, max_msg_size=0)
         return cls(process, http, ws)
