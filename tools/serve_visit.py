@@ -20,20 +20,31 @@ SEEN = b"blocks truecolor"  # the status line's mode, once the app runs in the p
 
 
 async def visit(host: str, port: int, timeout: float) -> tuple[bool, bytes]:
+    """Connect (again, until the server listens) and read until the status line is seen,
+    the app ends, or `timeout` seconds pass."""
     received = bytearray()
-    async with aiohttp.ClientSession() as http:
-        async with http.ws_connect(f"ws://{host}:{port}/ws?width=160&height=48") as ws:
-            async def read() -> bool:
-                async for message in ws:
-                    if message.type == aiohttp.WSMsgType.BINARY:
-                        received.extend(message.data)
-                        if SEEN in received:
-                            return True
-                return False  # the app ended before drawing it
+
+    async def read(http: aiohttp.ClientSession) -> bool:
+        url = f"ws://{host}:{port}/ws?width=160&height=48"
+        while True:
             try:
-                return await asyncio.wait_for(read(), timeout), bytes(received)
-            except asyncio.TimeoutError:
-                return False, bytes(received)
+                ws = await http.ws_connect(url)
+                break
+            except aiohttp.ClientConnectorError:  # not listening yet
+                await asyncio.sleep(0.5)
+        async with ws:
+            async for message in ws:
+                if message.type == aiohttp.WSMsgType.BINARY:
+                    received.extend(message.data)
+                    if SEEN in received:
+                        return True
+        return False  # the app ended before drawing it
+
+    async with aiohttp.ClientSession() as http:
+        try:
+            return await asyncio.wait_for(read(http), timeout), bytes(received)
+        except asyncio.TimeoutError:
+            return False, bytes(received)
 
 
 def main() -> int:
