@@ -212,9 +212,17 @@ def screen_text(data: bytes) -> str:
     return ANSI.sub(b"", data).decode("utf-8", "replace")
 
 
-def os_process_group_gone(pgid: int) -> bool:
-    try:
-        os.killpg(pgid, 0)
-    except ProcessLookupError:
-        return True
-    return False
+def os_process_group_gone(pgid: int, within: float = 10.0) -> bool:
+    """True once no process is left in the group; waits up to `within` seconds, as an app
+    that has closed its pipes (which is what its server waits for) may still be tearing
+    down its threads."""
+    import time
+    deadline = time.monotonic() + within
+    while True:
+        try:
+            os.killpg(pgid, 0)
+        except ProcessLookupError:
+            return True
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.1)
