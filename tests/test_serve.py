@@ -98,8 +98,8 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
 
 def test_a_visitor_gets_an_app_and_ctrl_c_to_the_server_alone_ends_it(tmp_path):
     """The page's websocket, without a browser: the visitor's own app answers in half-blocks;
-    SIGINT to the server only (`kill -INT`) still ends that app, and promptly (the visit
-    would otherwise hold the exit for as long as the page stays open)."""
+    SIGINT to the server only (`kill -INT`) still ends that app: the server tells it to
+    quit and waits for it (before, it could exit with the app still running)."""
     import aiohttp
 
     async def go():
