@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .usage import UsageError, check_output_path
 
-COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "wedge", "scenes")
+COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "wedge", "serve", "scenes")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -107,6 +107,16 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                    help="OUT.usd, OUT.usdc, OUT.usda (needs the [usd] extra) or "
                         "OUT_####.obj / OUT_####.ply (one file per frame)")
     p.add_argument("--frames", type=_positive_int, default=120, help="frames to simulate")
+
+    p = sub.add_parser("serve", help="serve the app to web browsers (needs the [serve] extra)")
+    _add_scene_args(p, optional=True)
+    p.add_argument("--host", default="localhost",
+                   help="address to listen on (default: localhost, this machine only; "
+                        "0.0.0.0 for every machine that can reach this one)")
+    p.add_argument("--port", type=int, default=8000, help="port to listen on (default: 8000)")
+    p.add_argument("--captures", default="captures", metavar="DIR",
+                   help="folder that keeps every visitor's captures as well "
+                        "(default: ./captures)")
 
     p = sub.add_parser("scenes", help="list the built-in scenes")
 
@@ -217,6 +227,11 @@ def cmd_accuracy(args) -> int:
 def cmd_wedge(args) -> int:
     from .wedge.cli import run_wedge
     return run_wedge(args)
+
+
+def cmd_serve(args) -> int:
+    from .serve import run_serve
+    return run_serve(args)
 
 
 def cmd_app(args) -> int:

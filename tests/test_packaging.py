@@ -77,3 +77,34 @@ def test_installed_wheel_reads_its_fabric_table(wheel, tmp_path):
     assert p.returncode == 0, p.stderr
     module, density = p.stdout.splitlines()
     assert module.startswith(str(site)) and float(density) == 0.324
+
+
+def test_installed_wheel_serves_the_app_outside_the_checkout(wheel, tmp_path):
+    """`cloth-tui serve` from the wheel (its extra, textual-serve, is installed here): a
+    visitor, as a page connects, gets the wheel's app drawing its status line."""
+    import asyncio
+
+    from .serving import free_port, interrupt, start_server
+
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel).extractall(site)
+    env = dict(os.environ, PYTHONPATH=str(site))
+    code = "import cloth_tui.serve as s; print(s.__file__)"
+    where = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           cwd=tmp_path, env=env, timeout=60)
+    assert where.stdout.startswith(str(site)), where.stderr
+    port = free_port()
+
+    async def go():
+        server, said = await start_server(tmp_path, "--port", str(port), env=env)
+        try:
+            visit = await asyncio.create_subprocess_exec(
+                sys.executable, str(ROOT / "tools" / "serve_visit.py"), str(port),
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env)
+            out, _ = await visit.communicate()
+        finally:
+            code = await interrupt(server)
+        assert visit.returncode == 0, out.decode()
+        assert code == 0
+
+    asyncio.run(go())

@@ -104,7 +104,7 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
         self._stopped = False
         self._crosshair_placed = False
         self._no_preview: str | None = None  # why there are no pictures, once known
-        self.bake = BakeKey(self.captures_dir, self.notify)  # `e`: record to USD
+        self.bake = BakeKey(self.captures_dir, self.notify, self.download)  # `e`: record to USD
         self.crash: Exception | None = None  # the first exception nothing caught
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None

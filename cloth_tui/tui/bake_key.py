@@ -13,9 +13,11 @@ from ..io.usd_bake import missing_usd_message
 
 
 class BakeKey:
-    def __init__(self, captures_dir: Path, notify: Callable[..., None]):
+    def __init__(self, captures_dir: Path, notify: Callable[..., None],
+                 on_saved: Callable[[Path], str] = lambda path: ""):
         self.captures_dir = Path(captures_dir)
         self.notify = notify
+        self.on_saved = on_saved  # a saved bake's path: what to add to its notice
         self.recorder = None  # io.recorder.UsdRecorder, from `e` until its file is saved
 
     @property
@@ -71,7 +73,8 @@ class BakeKey:
                 self.notify(recorder.error, title="Bake failed", severity="error", timeout=10)
             else:
                 why = "" if recorder.ended_by == "stopped" else f" ({recorder.ended_by})"
-                self.notify(f"Bake saved: {recorder.path}, {recorder.frames} frames{why}")
+                self.notify(f"Bake saved: {recorder.path}, {recorder.frames} frames{why}"
+                            f"{self.on_saved(recorder.path)}")
         return text
 
     def finish(self, timeout: float) -> None:

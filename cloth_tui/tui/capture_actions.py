@@ -1,10 +1,16 @@
 """The app's capture actions and their reports: screenshot, video, USD bake and saving the
-scene. A mixin of `ClothApp`, which owns the renderer, the bake key and the captures folder."""
+scene. A mixin of `ClothApp`, which owns the renderer, the bake key and the captures folder.
+
+Every capture is written to the captures folder. Served to a web browser (`cloth-tui serve`)
+that folder is on the server, so each capture is also handed to the browser as a download.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any, Callable
+
+from textual import events
 
 from ..render.capture import timestamped
 from ..scene import Scene, SceneError
@@ -14,9 +20,13 @@ from .bake_key import BakeKey
 from .messages import Captured
 
 
+DOWNLOADING = " (downloading to your browser)"
+
+
 class CaptureActions:
     """Needs from the app: `scene`, `sim`, `renderer` (or None), `bake`, `captures_dir`,
-    `notify`, `_show_no_preview` and `_refresh_status`."""
+    `notify`, `_show_no_preview` and `_refresh_status`, and Textual's `is_web` and
+    `deliver_binary`."""
 
     scene: Scene
     sim: SimulationThread | None
@@ -26,6 +36,24 @@ class CaptureActions:
     notify: Callable[..., None]
     _show_no_preview: Callable[[str], None]
     _refresh_status: Callable[[], None]
+    is_web: bool
+    deliver_binary: Callable[..., str | None]
+
+    def download(self, path: Path | str | None) -> str:
+        """In a browser, start sending the capture at `path` to it as a download (Textual
+        streams it in chunks on request); in a terminal, nothing. What to add to the notice."""
+        if not self.is_web or path is None:
+            return ""
+        try:
+            self.deliver_binary(Path(path), name=Path(path).name)
+        except OSError as e:  # gone or unreadable since it was written
+            self.notify(f"cannot download {path}: {e.strerror or e}", severity="error")
+            return ""
+        return DOWNLOADING
+
+    def on_delivery_failed(self, event: events.DeliveryFailed) -> None:
+        self.notify(f"download of {event.name} failed: {event.exception}",
+                    title="Download failed", severity="error", timeout=10)
 
     def on_captured(self, message: Captured) -> None:
         ev = message.event
@@ -35,11 +63,11 @@ class CaptureActions:
             self.notify(ev.message or "capture failed", title="Capture failed",
                         severity="error", timeout=10)
         elif ev.kind == "screenshot":
-            self.notify(f"Screenshot saved: {ev.path}")
+            self.notify(f"Screenshot saved: {ev.path}{self.download(ev.path)}")
         elif ev.kind == "video_started":
             self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
         elif ev.kind == "video_saved":
-            self.notify(f"Video saved: {ev.path}")
+            self.notify(f"Video saved: {ev.path}{self.download(ev.path)}")
         elif ev.kind == "video_empty":
             self.notify(f"Nothing recorded: {ev.message}", severity="warning")
         elif ev.kind == "notice":
@@ -69,4 +97,4 @@ class CaptureActions:
         except SceneError as e:
             self.notify(str(e), title="Save failed", severity="error")
             return
-        self.notify(f"Scene saved: {path}")
+        self.notify(f"Scene saved: {path}{self.download(path)}")

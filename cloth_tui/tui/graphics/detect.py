@@ -196,11 +196,20 @@ def choose(forced: str, env: Mapping[str, str], replies: Replies,
     return Graphics("blocks", cell, colors, "no kitty or sixel answer", replies)
 
 
+def in_browser(env: Mapping[str, str]) -> bool:
+    """Served to a web browser (textual-serve runs the app with Textual's web driver): the
+    screen is the page's terminal, which shows neither kitty nor sixel pictures, and this
+    process's own tty, if any, is the server's terminal, not the one to ask."""
+    return "web_driver" in env.get("TEXTUAL_DRIVER", "")
+
+
 def detect(forced: str = "auto", env: Mapping[str, str] | None = None,
            timeout: float = QUERY_TIMEOUT_S) -> Graphics:
     """Ask the terminal (unless inside tmux/screen) and choose. Forcing a mode still asks,
-    for the cell size."""
+    for the cell size. In a browser, half-blocks in true colour, whatever was forced."""
     env = os.environ if env is None else env
+    if in_browser(env):
+        return Graphics("blocks", DEFAULT_CELL_PX, "truecolor", "in a web browser: half-blocks")
     if forced == "auto" and in_multiplexer(env):
         replies, cell = Replies(), None
     else:

@@ -83,6 +83,18 @@ def test_forced_mode_wins_and_still_asks_for_the_cell_size(monkeypatch):
     assert g.mode == "sixel" and g.cell_px == (8, 16)
 
 
+@pytest.mark.parametrize("forced", ["auto", "kitty", "sixel"])
+def test_a_browser_gets_half_blocks_in_truecolor_without_asking(monkeypatch, forced):
+    def no_query(timeout):
+        raise AssertionError("asked the tty: under textual-serve it is the server's terminal")
+
+    monkeypatch.setattr(detect, "query_tty", no_query)
+    env = {"TEXTUAL_DRIVER": "textual.drivers.web_driver:WebDriver", "TERM": "xterm-kitty"}
+    g = detect.detect(forced, env)
+    assert (g.mode, g.colors, g.label) == ("blocks", "truecolor", "blocks truecolor")
+    assert "browser" in g.why
+
+
 @pytest.mark.parametrize("env, replies, depth", [
     ({"TERM": "xterm"}, Replies(), "256"),  # TERM=xterm, no COLORTERM: not 16
     ({"TERM": "xterm", "COLORTERM": "truecolor"}, Replies(), "truecolor"),

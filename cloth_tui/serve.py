@@ -1,0 +1,171 @@
+"""`cloth-tui serve`: the app in a web browser, through Textual's own web server
+(textual-serve, the optional `[serve]` extra).
+
+The server runs no simulation itself: each browser that opens the page gets its own app
+process (`python -m cloth_tui SCENE …`), whose screen and keys travel over a websocket. In
+there the preview draws in half-block cells (graphics/detect.py sees the web driver) and every
+capture is also handed to the browser as a download (capture_actions.py).
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import os
+import shlex
+import socket
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from .usage import UsageError
+
+MISSING_EXTRA = ("serve needs the [serve] extra (textual-serve): "
+                 "pip install 'cloth-tui[serve]'")
+BAKE_SUFFIXES = (".usd", ".usdc", ".usda")
+
+
+def is_local(host: str) -> bool:
+    """True when only this machine can connect to `host` (a loopback name or address)."""
+    if host.lower() in ("localhost", "localhost.localdomain", "ip6-localhost"):
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:  # a host name: it may resolve to an outside address
+        return False
+
+
+def app_command(scene: str, overrides: list[str], captures_dir: Path) -> str:
+    """The shell command textual-serve runs for each visitor: this Python, this package."""
+    argv = [sys.executable, "-m", "cloth_tui", scene]
+    for override in overrides:
+        argv += ["--set", override]
+    argv += ["--captures", str(captures_dir)]
+    return shlex.join(argv)
+
+
+def check_scene(scene: str, overrides: list[str]) -> str:
+    """Refuse a scene (or bake) the app would refuse, once here rather than on every visitor's
+    page; return the argument to hand the app, a file as an absolute path."""
+    if Path(scene).suffix.lower() in BAKE_SUFFIXES:
+        from .io.usd_read import UsdBake
+        from .render.replay import bake_scene
+        bake_scene(UsdBake(Path(scene)), overrides)
+        return str(Path(scene).resolve())
+    from .scene_files import apply_overrides, load
+    apply_overrides(load(scene), overrides)
+    return str(Path(scene).resolve()) if Path(scene).is_file() else scene
+
+
+def check_captures(captures_dir: Path) -> Path:
+    try:
+        captures_dir.mkdir(parents=True, exist_ok=True)
+        if not os.access(captures_dir, os.W_OK):
+            raise PermissionError(13, "not writable")
+    except OSError as e:
+        raise UsageError(f"cannot use captures folder {captures_dir}: "
+                         f"{e.strerror or e}") from None
+    return captures_dir.resolve()
+
+
+def start_lines(host: str, port: int, captures_dir: Path) -> list[str]:
+    """What the server says when it is listening."""
+    url = f"http://{host if ':' not in host else f'[{host}]'}:{port}"
+    if is_local(host):
+        reach = (f"Listening on {host} only: other machines cannot connect "
+                 f"(--host 0.0.0.0 lets them).")
+    else:
+        reach = (f"Listening on {host}: other machines can connect, and anyone who reaches "
+                 f"port {port} can run the app.")
+    return [f"cloth-tui serve: open {url} in a web browser.", reach,
+            f"Each browser tab runs its own app; captures are downloaded by the browser and "
+            f"kept in {captures_dir}.",
+            "Press Ctrl+C to stop the server and every app."]
+
+
+def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
+    import asyncio
+    import logging
+    import signal
+
+    from aiohttp import web
+    from textual_serve.server import Server
+
+    visits: set[asyncio.Task] = set()  # one per open page: its websocket's handler
+
+    class ClothServer(Server):
+        def serve(self, debug: bool = False) -> None:
+            """textual-serve's own `serve`, but the start lines are printed once the port is
+            bound (a taken port fails before any of them), and a fresh event loop."""
+            self.debug = debug
+            self.initialize_logging()
+            # one line per visitor (handle_websocket) says more than aiohttp's request log
+            logging.getLogger("aiohttp.access").setLevel(logging.WARNING)
+            loop = asyncio.new_event_loop()
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                loop.add_signal_handler(sig, self.request_exit)
+            web.run_app(self._make_app(), host=self.host, port=self.port,
+                        handle_signals=False, loop=loop, print=self._listening)
+
+        def _listening(self, _aiohttp_banner: str) -> None:
+            for line in start_lines(host, port, captures_dir):
+                print(line, flush=True)  # flushed: a pipe (a test, a log) sees it at once
+
+        async def on_startup(self, app) -> None:
+            """Nothing: textual-serve prints its banner here, before the port is bound."""
+
+        async def handle_websocket(self, request):
+            """One visitor's app, from the page's connection until it closes."""
+            task = asyncio.current_task()
+            visits.add(task)
+            _log(f"{request.remote} opened the app ({len(visits)} running)")
+            try:
+                return await super().handle_websocket(request)
+            finally:
+                visits.discard(task)
+                _log(f"{request.remote} left: its app stopped ({len(visits)} running)")
+
+        async def on_shutdown(self, app) -> None:
+            """Ctrl+C: end every visit now; each one's handler then tells its app to quit
+            and waits for it (aiohttp waits for the handlers). Left alone, the open pages
+            held the server's exit for ~20 s, or it exited with their apps still running."""
+            for task in list(visits):
+                task.cancel()
+
+        async def handle_index(self, request):
+            """The page connects its websocket back to the address the browser used: with
+            --host 0.0.0.0 the configured one is no address a browser can reach."""
+            self.public_url = f"{request.scheme}://{request.host}"
+            return await super().handle_index(request)
+
+    return ClothServer(command, host=host, port=port, title="cloth-tui")
+
+
+def run_serve(args) -> int:
+    try:
+        import textual_serve.server  # noqa: F401
+    except ImportError:
+        raise UsageError(MISSING_EXTRA) from None
+    if not 1 <= args.port <= 65535:
+        raise UsageError(f"--port {args.port}: must be 1…65535")
+    scene = check_scene(args.scene, args.overrides)
+    captures_dir = check_captures(Path(args.captures))
+    command = app_command(scene, args.overrides, captures_dir)
+    server = make_server(command, args.host, args.port, captures_dir)
+    try:
+        server.serve()
+    except OSError as e:  # the port is taken, the host unknown or not this machine's
+        raise UsageError(f"cannot listen on {args.host}:{args.port}: "
+                         f"{_reason(e)}") from None
+    return 0
+
+
+def _log(text: str) -> None:
+    print(f"{time.strftime('%H:%M:%S')} {text}", flush=True)
+
+
+def _reason(error: OSError) -> str:
+    """'Address already in use', not asyncio's sentence that repeats the address."""
+    if isinstance(error, socket.gaierror) or not error.errno:
+        return error.strerror or str(error)
+    return os.strerror(error.errno)

@@ -1,0 +1,184 @@
+"""`cloth-tui serve`: the app in a web browser.
+
+The browser test runs the real command on a free localhost port and opens the page in
+headless Chromium (tests/chromium.py): the page shows the cloth in half-blocks and the
+panels, a bump changes the status line, `i` arrives as a PNG download, and Ctrl+C ends the
+server and the visitor's app process. It is skipped, saying why, where no Chromium is
+installed (.ci/run installs Debian's)."""
+
+import asyncio
+import io
+import os
+import re
+import shlex
+import signal
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cloth_tui.serve import app_command, is_local, start_lines
+
+from .chromium import Chromium, find_browser, os_process_group_gone, screen_text
+from .serving import START_S, free_port, interrupt, start_server
+
+BROWSER = find_browser()
+needs_browser = pytest.mark.skipif(
+    BROWSER is None, reason="no Chromium (apt-get install chromium; .ci/run installs it)")
+ENERGY = re.compile(r"(?<!Δ)E ([+-][0-9.]+(?:e[+-]?\d+)?) J")
+
+
+def red_share(png: bytes, box: tuple[int, int, int, int]) -> float:
+    """The share of pixels in `box` of the cloth's default colour (#aa2929), lit or shaded:
+    red well above green and blue."""
+    import numpy as np
+    from PIL import Image
+    rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB").crop(box)).astype(int)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return float(((r > 80) & (r > 2 * g) & (r > 2 * b)).mean())
+
+
+@needs_browser
+def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screenshot(tmp_path):
+    port = free_port()
+    captures, downloads = tmp_path / "caps", tmp_path / "downloads"
+    downloads.mkdir()
+
+    async def go():
+        server, said = await start_server(tmp_path, "default", "--port", str(port),
+                                          "--captures", str(captures))
+        assert f"http://localhost:{port}" in said[0] and "localhost only" in said[1]
+        browser = await Chromium.start(BROWSER, tmp_path / "profile", size=(1600, 1000))
+        try:
+            await browser.open(f"http://localhost:{port}/", downloads)
+            screen = lambda: screen_text(browser.received())  # noqa: E731
+            await browser.wait_for(lambda: "blocks truecolor" in screen(), START_S,
+                                   "the status line, naming half-blocks")
+            # the terminal takes the keys once focused (as a click on the page does)
+            await browser.evaluate("document.querySelector('.xterm-helper-textarea').focus()")
+            await browser.wait_for(lambda: "Quit" in screen(), 30, "the footer's keys")
+            await browser.wait_for(lambda: screen().count("▀") > 2000, START_S,
+                                   "the preview's half-block picture")
+            await asyncio.sleep(1.0)  # a few frames more: the whole picture drawn
+            shot = await browser.screenshot(tmp_path / "page.png")
+            for group in ("Forces", "Scene", "Behavior", "Appearance"):
+                assert group in screen()
+            # the preview (left two thirds, above the status line) shows the red sheet
+            assert red_share(shot, (0, 0, 1000, 800)) > 0.05
+
+            # paused, the status line changes only when the sheet is moved
+            await browser.press("space")
+            await browser.wait_for(lambda: "PAUSED" in screen(), 30, "PAUSED")
+            await asyncio.sleep(1.5)  # a frame in flight at the pause is published
+            before = ENERGY.findall(screen())[-1]
+            await asyncio.sleep(1.0)
+            assert ENERGY.findall(screen())[-1] == before  # at rest while paused
+            await browser.press("up")
+            after = await browser.wait_for(
+                lambda: (e := ENERGY.findall(screen())[-1]) != before and e, 30,
+                "the status line's energy to change after the bump")
+            assert float(after) > float(before)  # lifted and set moving: more energy
+
+            await browser.press("i")
+            (guid,) = await browser.wait_for(browser.downloads, 60, "the screenshot download")
+            name = browser.download_names()[guid]
+            data = (downloads / guid).read_bytes()
+            assert data.startswith(b"\x89PNG\r\n\x1a\n")
+            assert name.endswith(".png") and (captures / name).read_bytes() == data
+        finally:
+            await browser.close()
+            code = await interrupt(server)
+        assert code == 0
+        assert os_process_group_gone(server.pid)  # the visitor's app ended with it
+
+    asyncio.run(go())
+
+
+def test_a_visitor_gets_an_app_and_ctrl_c_to_the_server_alone_ends_it(tmp_path):
+    """The page's websocket, without a browser: the visitor's own app answers in half-blocks;
+    SIGINT to the server only (`kill -INT`) still ends that app: the server tells it to
+    quit and waits for it (before, it could exit with the app still running)."""
+    import aiohttp
+
+    async def go():
+        port = free_port()
+        server, said = await start_server(tmp_path, "--port", str(port))
+        assert "localhost only" in said[1] and "Ctrl+C" in said[-1]
+        screen = bytearray()
+        try:
+            async with aiohttp.ClientSession() as http:
+                url = f"ws://localhost:{port}/ws?width=160&height=48"
+                async with http.ws_connect(url) as ws:
+                    async def until_status():
+                        async for message in ws:
+                            if message.type == aiohttp.WSMsgType.BINARY:
+                                screen.extend(message.data)
+                                if "blocks truecolor" in screen_text(bytes(screen)):
+                                    return
+                    await asyncio.wait_for(until_status(), START_S)
+                    server.send_signal(signal.SIGINT)
+                    code = await asyncio.wait_for(server.wait(), 30)
+        finally:
+            if server.returncode is None:
+                os.killpg(server.pid, signal.SIGKILL)
+        assert code == 0
+        assert os_process_group_gone(server.pid)  # the app is gone with it
+        assert (tmp_path / "captures").is_dir()
+
+    asyncio.run(go())
+
+
+def _cli(tmp_path, *args, code=None):
+    run = [sys.executable, "-c", code, *args] if code else [sys.executable, "-m", "cloth_tui",
+                                                            *args]
+    return subprocess.run(run, capture_output=True, text=True, cwd=tmp_path, timeout=120)
+
+
+@pytest.mark.parametrize("args, says", [
+    (["serve", "no-such-scene"], "not found"),
+    (["serve", "--set", "cloth.resolution=1"], "cloth.resolution"),
+    (["serve", "--port", "70000"], "--port 70000"),
+])
+def test_bad_input_is_one_line_before_listening(tmp_path, args, says):
+    p = _cli(tmp_path, *args)
+    assert p.returncode == 2 and says in p.stderr, p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1 and "open http" not in p.stdout
+
+
+def test_a_taken_port_is_one_line(tmp_path):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        p = _cli(tmp_path, "serve", "--host", "127.0.0.1", "--port", str(port))
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip() == (f"cloth-tui: error: cannot listen on 127.0.0.1:{port}: "
+                                "Address already in use")
+    assert "open http" not in p.stdout
+
+
+def test_without_the_extra_serve_says_how_to_install_it(tmp_path):
+    hide = ("import sys; sys.modules['textual_serve'] = None; "  # as if not installed
+            "from cloth_tui.cli import main; sys.exit(main(['serve']))")
+    p = _cli(tmp_path, code=hide)
+    assert p.returncode == 2
+    assert p.stderr.strip() == ("cloth-tui: error: serve needs the [serve] extra "
+                                "(textual-serve): pip install 'cloth-tui[serve]'")
+
+
+def test_only_loopback_hosts_are_called_local():
+    assert all(is_local(h) for h in ("localhost", "127.0.0.1", "127.1.2.3", "::1", "[::1]"))
+    assert not any(is_local(h) for h in ("0.0.0.0", "::", "192.168.1.5", "example.org"))
+    assert "other machines can connect" in start_lines("0.0.0.0", 8000, Path("c"))[1]
+    assert start_lines("::", 8000, Path("c"))[0] == ("cloth-tui serve: open http://[::]:8000 "
+                                                     "in a web browser.")
+
+
+def test_the_app_command_survives_the_shell(tmp_path):
+    captures = tmp_path / "my captures; rm -rf"
+    command = app_command("my scene.toml", ["appearance.cloth_color='#ff0000'"], captures)
+    assert shlex.split(command) == [sys.executable, "-m", "cloth_tui", "my scene.toml",
+                                    "--set", "appearance.cloth_color='#ff0000'",
+                                    "--captures", str(captures)]
