@@ -1,8 +1,9 @@
-"""The cloth's shadow on the ground, cheaply: a coarse copy of the sheet (at most 33×33 of its
-particles; of a rectangle, at most 33 along each side) projected along the sun's direction onto the floor and drawn there, unlit, in the
-colour of ground the sun does not reach. A planar projection is exact for a flat floor and a
-directional light; PyVista's shadow maps draw the scene twice and SSAO adds passes over every
-pixel, both far over the frame budget in software GL (measured in docs/rendering.md).
+"""The cloth's shadow on the ground, cheaply: a coarse copy of the sheet (at most 33 of its
+particles along each side) projected along the sun's direction onto the floor and drawn there,
+unlit, in the colour of ground the sun does not reach. A planar projection is exact for a flat
+floor and a directional light; PyVista's shadow maps draw the scene twice and SSAO adds passes
+over every pixel, both far over the frame budget in software GL (measured in
+docs/rendering.md).
 
 A torn sheet casts the shadow of the faces it shows (every particle, the renderer's intact
 triangles): the coarse copy's cells would span its tears and shade the ground under the gap.
@@ -21,7 +22,7 @@ from ..sim.jit import kernel
 from ..sim.surface import grid_cell_triangles
 from .props import FOG_FAR, FOG_NEAR
 
-MAX_SIDE = 33          # particles along each side of the coarse copy: a smooth outline, ≤ 2k triangles
+MAX_SIDE = 33          # particles along each side of the coarse copy: smooth, ≤ 2k faces
 LIFT = 0.001           # m above the floor: over the ground, under the grid and the fog disc
 TEXTURED_ALPHA = 0.45  # darkening over a textured ground
 

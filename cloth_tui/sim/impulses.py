@@ -54,8 +54,8 @@ class Rain:
     def apply(self, state, frame_dt):
         struck = self.strikes(state.t, frame_dt)
         for p in struck:
-            apply_raindrop(state.x, state.v, self.inv_mass, self.nx, self.nz, int(p), self.strength,
-                           1.0 / frame_dt, 1.0 / RAIN_RADIUS ** 2, RAIN_REACH)
+            apply_raindrop(state.x, state.v, self.inv_mass, self.nx, self.nz, int(p),
+                           self.strength, 1.0 / frame_dt, 1.0 / RAIN_RADIUS ** 2, RAIN_REACH)
         self.drops += len(struck)
 
 

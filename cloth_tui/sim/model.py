@@ -214,7 +214,8 @@ def build_model(cloth, behavior) -> ClothModel:
         tether_pin[pins] = -1
     for arr in (rest, mass, inv_mass, pins, edges, rest_length, family, offsets):
         arr.setflags(write=False)
-    return ClothModel(nx=nx, nz=nz, width=width, length=length, rest_positions=rest, mass=mass, inv_mass=inv_mass,
-                      pinned=pins, edges=np.ascontiguousarray(edges), rest_length=rest_length,
+    return ClothModel(nx=nx, nz=nz, width=width, length=length, rest_positions=rest,
+                      mass=mass, inv_mass=inv_mass, pinned=pins,
+                      edges=np.ascontiguousarray(edges), rest_length=rest_length,
                       family=family, color_offsets=offsets, triangles=grid_triangles(nx, nz),
                       tether_pin=tether_pin, tether_length=tether_length)

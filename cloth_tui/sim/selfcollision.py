@@ -236,7 +236,8 @@ def hash_stride(table: int, cells_x: float, cells_z: float) -> int:
     wide, chosen so that its cells get distinct buckets: about √table apart (a square sheet's
     rows fit side by side), or, where the sheet's rows are longer than that (a wide strip) or
     more (a long one, whose rows would wrap round the table onto each other), its own row of
-    cells, the rows packed one after another. Odd, so that rows do not repeat a pattern."""
+    cells, the rows packed one after another. Odd: coprime with the power-of-two table, so
+    rows that do wrap round it spread over every bucket."""
     row, rows = math.ceil(cells_x) + 1, math.ceil(cells_z) + 1  # a flat sheet's cells
     stride = max(math.isqrt(table), row)
     return (stride if stride * rows <= table else row) | 1
