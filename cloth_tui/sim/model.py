@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .grid_sweeps import grid_colors
+from .pins import PinLayout, layout
 
 FAMILIES = ("structural", "shear", "bending")
 STRUCTURAL, SHEAR, BENDING = 0, 1, 2
@@ -32,6 +33,7 @@ class ClothModel:
     triangles: np.ndarray       # (T, 3) int64, two per grid cell, for rendering and wind
     tether_pin: np.ndarray | None = None     # (N,) index into `pinned` of the nearest pin, −1 none
     tether_length: np.ndarray | None = None  # (N,) m, rest distance to that pin
+    pin_layout: PinLayout | None = None  # where pins hold (offsets, keys) and soft pins (pins.py)
 
     @property
     def num_particles(self) -> int:
@@ -152,8 +154,8 @@ def particle_masses(n: int, total: float, mass_model: str = "area") -> np.ndarra
     return (cell * np.outer(share, share)).ravel()
 
 
-def build_model(cloth, behavior) -> ClothModel:
-    """Build the model from the scene's [cloth] and [behavior] sections."""
+def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
+    """Build the model from the scene's [cloth] and [behavior] sections and its [[pins]]."""
     n, size = cloth.resolution, cloth.size
     u = np.linspace(-size / 2, size / 2, n)
     zz, xx = np.meshgrid(u, u, indexing="ij")
@@ -172,6 +174,10 @@ def build_model(cloth, behavior) -> ClothModel:
     if behavior.wave:
         # The wave drives the near edge (row n−1) and holds the far edge (row 0): both pinned.
         pins = np.union1d(pins, np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)]))
+    label = f"cloth.pinned = \"{cloth.pinned}\"" + (" or behavior.wave" if behavior.wave else "")
+    pins, pin_layout = layout(pins, label, list(pin_groups), rest, n, n)
+    if not pin_groups:
+        pin_layout = None  # every pin held in place: the model's `pinned` says it all
     mass = particle_masses(n, cloth.mass, cloth.mass_model)
     inv_mass = 1.0 / mass
     inv_mass[pins] = 0.0
@@ -186,4 +192,5 @@ def build_model(cloth, behavior) -> ClothModel:
     return ClothModel(n=n, size=size, rest_positions=rest, mass=mass, inv_mass=inv_mass,
                       pinned=pins, edges=np.ascontiguousarray(edges), rest_length=rest_length,
                       family=family, color_offsets=offsets, triangles=grid_triangles(n),
-                      tether_pin=tether_pin, tether_length=tether_length)
+                      tether_pin=tether_pin, tether_length=tether_length,
+                      pin_layout=pin_layout)
