@@ -79,6 +79,12 @@ class PinGroup:
 
 
 PIN_KEYS = {f.name: f for f in dataclasses.fields(PinGroup)}
+ALLOWED = {"rows": "[first, last], integers", "cols": "[first, last], integers",
+           "at": f"[[row, col], ...], integers, at most {MAX_AT}",
+           "offset": f"[dx, dy, dz], each within ±{MAX_OFFSET:g}",
+           "stiffness": "a number with 0 < value ≤ 1",
+           "keys": f"[[t, dx, dy, dz], ...], t increasing, 0 ≤ t ≤ {MAX_KEY_TIME:g}, at most "
+                   f"{MAX_KEYS} keys"}
 DEFAULT_GROUP = PinGroup()
 
 

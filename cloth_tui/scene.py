@@ -192,6 +192,8 @@ class Appearance:
     wireframe: bool = key(False, "draw the cloth as a wireframe")
     auto_rotate: bool = key(False, "orbit the camera")
     show_constraints: bool = key(False, "draw constraints coloured by family")
+    show_pins: bool = key(True, "mark the held particles with small dots in the app's "
+                          "preview (renders from the command line leave them out)")
     cloth_color: str = key("#aa2929", "cloth colour", kind="color")
     cloth_specular: str = key("#030303", "cloth reflection (specular colour)", kind="color")
     ground_color: str = key("#404761", "ground colour", kind="color")
