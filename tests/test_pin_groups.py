@@ -98,3 +98,20 @@ def test_a_scene_file_with_bad_pins_exits_2_with_one_line(tmp_path, capsys):
     assert main(["simulate", str(path), "--frames", "1"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "pins[0].rows = [0, 99] is outside the sheet" in err
+
+
+def test_the_readmes_example_is_a_scene_that_runs():
+    from pathlib import Path
+
+    from cloth_tui.sim.runner import Simulation
+    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Pin groups", 1)[1]
+    example = section.split("```toml", 1)[1].split("```", 1)[0]
+    s = sf.loads(example, "readme")
+    assert len(s.pins) == 5 and s.cloth.pinned == "none"
+    sim = Simulation(s)
+    for _ in range(30):
+        sim.advance_frame()
+    assert sim.stats()["finite"]
+    lifted = 12 * 26 + 12
+    assert sim.state.x[lifted, 1] == pytest.approx(sim.model.rest_positions[lifted, 1] + 0.2)
