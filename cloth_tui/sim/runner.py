@@ -34,9 +34,9 @@ SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts a
 # moving object) stays.
 STRETCH_CONVERGED = 0.1
 # A force-based integrator going unstable pumps energy in. In a scene with no energy source
-# (wind, fields, rain, a wave, moving objects) a frame may not gain more than this share of
-# the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping, contacts and
-# a stable integrator only lose energy, an unstable one gains it exponentially.
+# (wind, fields, rain, a wave, moving objects or pins) a frame may not gain more than this
+# share of the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping,
+# contacts and a stable integrator only lose energy, an unstable one gains it exponentially.
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
@@ -61,7 +61,8 @@ def has_energy_source(scene: Scene) -> bool:
     f = scene.forces
     return (f.wind or f.custom != "none" or f.rain or scene.behavior.wave
             or (scene.scene.moving and scene.scene.object != "none")
-            or any(o.motion != "static" for o in scene.objects))
+            or any(o.motion != "static" for o in scene.objects)
+            or any(g.keys for g in scene.pins))  # moving pin groups
 
 
 @dataclass(frozen=True)
