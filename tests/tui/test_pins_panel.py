@@ -114,3 +114,15 @@ def test_ctrl_drag_pins_the_particle_where_it_is_let_go_and_r_restores(tmp_path)
             await pilot.pause(0.2)
             assert other not in app.sim.latest.model.pinned
     run(go())
+
+
+def test_s_saves_the_pin_groups_and_they_load_back(tmp_path):
+    async def go():
+        app = make_app(tmp_path, pinned_scene())
+        async with app.run_test(size=SIZE) as pilot:
+            await pilot.press("s")
+            await until(pilot, lambda: any("Scene saved" in m for m in notifications(app)))
+            (path,) = (tmp_path / "caps").glob("scene*.toml")
+            loaded = sf.load(path)
+            assert loaded.pins == pinned_scene().pins and loaded == app.scene
+    run(go())
