@@ -171,11 +171,12 @@ def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
     pins = pinned_indices(n, cloth.pinned, behavior.seed, cloth.pin_fraction)
+    held = [(f"cloth.pinned = \"{cloth.pinned}\"", pins)]
     if behavior.wave:
         # The wave drives the near edge (row n−1) and holds the far edge (row 0): both pinned.
-        pins = np.union1d(pins, np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)]))
-    label = f"cloth.pinned = \"{cloth.pinned}\"" + (" or behavior.wave" if behavior.wave else "")
-    pins, pin_layout = layout(pins, label, list(pin_groups), rest, n, n)
+        wave_edges = np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)])
+        held.append(("behavior.wave", wave_edges))
+    pins, pin_layout = layout(held, list(pin_groups), rest, n, n)
     if not pin_groups:
         pin_layout = None  # every pin held in place: the model's `pinned` says it all
     mass = particle_masses(n, cloth.mass, cloth.mass_model)

@@ -79,11 +79,12 @@ def group_particles(group: PinGroup, rows: int, cols: int, where: str) -> np.nda
     return (np.asarray(rr)[:, None] * cols + np.asarray(cc)[None, :]).ravel().astype(np.int64)
 
 
-def layout(fixed: np.ndarray, fixed_label: str, groups: list[PinGroup], rest: np.ndarray,
+def layout(fixed: list[tuple[str, np.ndarray]], groups: list[PinGroup], rest: np.ndarray,
            rows: int, cols: int) -> tuple[np.ndarray, PinLayout]:
-    """Combine the particles cloth.pinned and the wave hold in place (`fixed`) with the
-    groups. Returns the hard-pinned particles (sorted) and the layout. A particle two sources
-    hold differently (offset, keys or stiffness) is a SceneError naming both."""
+    """Combine the particles cloth.pinned and the wave hold in place (`fixed`: (key, indices)
+    each) with the groups. Returns the hard-pinned particles (sorted) and the layout. A
+    particle two sources hold differently (offset, keys or stiffness) is a SceneError naming
+    both."""
     owner = np.full(rows * cols, -1, np.int64)  # which source holds each particle
     sources: list[tuple[str, PinGroup]] = []
 
@@ -97,14 +98,18 @@ def layout(fixed: np.ndarray, fixed_label: str, groups: list[PinGroup], rest: np
                                  "differently (offset, keys or stiffness); a particle may be "
                                  "in two groups only if both hold it the same way"
                                  + ("; set cloth.pinned = \"none\" to leave its pattern out"
-                                    if other.startswith("cloth.pinned") else ""))
+                                    if other.startswith("cloth.pinned") else "")
+                                 + ("; the wave holds both its edges in place"
+                                    if other == "behavior.wave" else ""))
         new = index[taken < 0]
         owner[new] = len(sources)
         sources.append((where, group))
         return new
 
-    claim(np.asarray(fixed, np.int64), fixed_label, EXACT)
-    hard_parts, soft_parts = [np.asarray(fixed, np.int64)], []
+    in_place = [np.zeros(0, np.int64)]
+    for where, index in fixed:
+        in_place.append(claim(np.unique(np.asarray(index, np.int64)), where, EXACT))
+    hard_parts, soft_parts = [np.concatenate(in_place)], []
     for i, g in enumerate(groups):
         new = claim(group_particles(g, rows, cols, f"pins[{i}]"), f"pins[{i}]", g)
         (hard_parts if g.stiffness == 1.0 else soft_parts).append((i, g, new))

@@ -159,3 +159,11 @@ def test_the_pin_gesture_leaves_soft_and_moving_groups_alone():
     for particle in (0, N + 1):
         with pytest.raises(SceneError, match="soft or moving pin group"):
             sim.pin(particle, [0, 0.3, 0])
+
+
+def test_a_group_that_moves_a_wave_edge_is_refused_naming_the_wave():
+    with pytest.raises(SceneError, match=r"pins\[0\] and behavior.wave both hold particle "
+                                         r"\[0, 2\].*holds both its edges in place"):
+        check_start(pinned_scene("[{at=[[0,2]], offset=[0,0.05,0]}]", "behavior.wave=true"))
+    check_start(pinned_scene("[{at=[[0,2]]}, {at=[[3,3]], offset=[0,0.05,0]}]",
+                             "behavior.wave=true"))
