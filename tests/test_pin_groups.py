@@ -1,11 +1,17 @@
 """[[pins]] tables: what they accept, what they refuse (one line naming the key), and that
-they round-trip through a saved scene file and through `--set pins=[...]`."""
+they round-trip through a saved scene file and through `--set pins=[...]`; any array of
+tables gives a scene and a model that hold what the tables say, or one SceneError."""
 
+import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from cloth_tui import scene_files as sf
 from cloth_tui.pin_groups import PinGroup, span
 from cloth_tui.scene import Scene, SceneError
+from cloth_tui.sim.model import build_model
+from cloth_tui.sim.pins import group_particles
 
 GROUPS = ('pins=[{rows=[0,0], cols=[0,-1], offset=[0.1,0.05,0]}, '
           '{at=[[3,4],[-1,-1]], stiffness=0.8}, {cols=[2,2], keys=[[0,0,0,0],[1.5,0,0.2,0]]}]')
@@ -115,3 +121,76 @@ def test_the_readmes_example_is_a_scene_that_runs():
     assert sim.stats()["finite"]
     lifted = 12 * 26 + 12
     assert sim.state.x[lifted, 1] == pytest.approx(sim.model.rest_positions[lifted, 1] + 0.2)
+
+
+# -- properties: any [[pins]] array gives a scene and a model, or one SceneError -------------
+
+N = 6
+
+
+def ordered_pairs():
+    """[first, last] with first ≤ last on the sheet, each end maybe counted from the end."""
+    return st.tuples(st.integers(0, N - 1), st.integers(0, N - 1), st.booleans(),
+                     st.booleans()).map(lambda t: [min(t[:2]) - N * t[2], max(t[:2]) - N * t[3]])
+
+
+def tables(index, number, gap, stiffness, pair=None):
+    """Strategies of [[pins]] arrays built from these value strategies."""
+    cell = st.lists(index, min_size=2, max_size=2)
+    pair = cell if pair is None else pair
+    block = st.one_of(st.fixed_dictionaries({"rows": pair}, optional={"cols": pair}),
+                      st.fixed_dictionaries({"cols": pair}))
+    cells = st.fixed_dictionaries({"at": st.lists(cell, min_size=1, max_size=4)})
+    vec = st.lists(number, min_size=3, max_size=3)
+    # times as running sums of gaps, so they increase unless a gap is 0 (then refused)
+    keys = st.lists(st.tuples(gap, vec), min_size=1, max_size=3).map(
+        lambda ks: [[sum(k[0] for k in ks[:i + 1]), *ks[i][1]] for i in range(len(ks))])
+    how = st.one_of(st.fixed_dictionaries({}, optional={"offset": vec, "stiffness": stiffness}),
+                    st.fixed_dictionaries({"keys": keys}, optional={"stiffness": stiffness}))
+    return st.lists(st.builds(lambda a, b: {**a, **b}, st.one_of(block, cells), how),
+                    max_size=4)
+
+
+valid = tables(st.integers(-N, N - 1), st.floats(-0.3, 0.3), st.floats(0.1, 2.0),
+               st.sampled_from([1.0, 0.9, 0.5]), ordered_pairs())
+anything = tables(st.integers(-N - 2, N + 1),
+                  st.one_of(st.floats(-0.3, 0.3), st.floats(allow_nan=True)),
+                  st.one_of(st.floats(0.1, 2.0), st.just(0.0), st.floats(allow_nan=True)),
+                  st.one_of(st.sampled_from([1.0, 0.5]), st.floats(allow_nan=True)))
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(anything)
+def test_any_groups_give_a_scene_or_one_scene_error(value):
+    try:
+        s = Scene().with_values({"cloth.resolution": N}).with_pins(value)
+        build_model(s.cloth, s.behavior, s.pins)
+    except SceneError as e:
+        assert "\n" not in str(e)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(valid, st.sampled_from(["none", "corners", "one_edge"]), st.booleans())
+def test_groups_hold_their_particles_where_they_say(value, pinned, wave):
+    """Valid tables may still disagree on a particle (refused); the rest hold as written."""
+    base = Scene().with_values({"cloth.resolution": N, "cloth.pinned": pinned,
+                                "behavior.wave": wave, "scene.floor": False})
+    try:
+        s = base.with_pins(value)
+        model = build_model(s.cloth, s.behavior, s.pins)
+    except SceneError as e:
+        assert "both hold particle" in str(e)
+        return
+    assert sf.loads(sf.dumps(s), s.name) == s  # what loads, saves and loads back the same
+    lay = model.pin_layout
+    if lay is None:
+        return
+    # every hard-held particle starts where its group says, every soft one likewise
+    for hold in (lay.hard, lay.soft):
+        assert np.isfinite(hold.at(0.0)).all() and np.isfinite(hold.at(100.0)).all()
+    for i, g in enumerate(s.pins):
+        hold = lay.hard if g.stiffness == 1.0 else lay.soft
+        chosen = group_particles(g, N, N, "g")
+        slots = np.searchsorted(hold.index, chosen)
+        assert np.array_equal(hold.index[slots], chosen)
+        assert np.allclose(hold.at(0.0)[slots], model.rest_positions[chosen] + g.offset_at(0.0))
