@@ -12,7 +12,7 @@ VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse d
 # Actions a focused text field or open dropdown keeps for itself (it needs those keys).
 TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake", "save_scene",
                      "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera",
-                     "one_thread", "help"}
+                     "one_thread", "help", "pin"}
 # Actions whose key a focused control (switch, button, dropdown, group title) acts on.
 CONTROL_KEYS_ACTIONS = {"pause"}  # space toggles a switch, presses a button, opens a group
 
@@ -80,6 +80,8 @@ KEY_GROUPS: dict[str, list[Binding]] = {
             show=False),
         key("j,shift+down", "crosshair(0, 1)", "Crosshair down", "move the crosshair down",
             show=False),
+        key("p", "pin", "Pin", "pin the particle under the pointer (or the crosshair) where it "
+            "is, as Ctrl+drag does (r restores the scene's pins)", show=False),
     ],
 }
 

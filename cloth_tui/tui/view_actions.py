@@ -139,6 +139,16 @@ class ViewActions:
         self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
         self._log_key("bump")
 
+    def action_pin(self) -> None:
+        """The pin gesture from the keyboard, for terminals that do not report Ctrl with the
+        mouse: the particle under the pointer or crosshair, where it is."""
+        particle = self.renderer.pick(*self.preview.target) if self.renderer else None
+        if particle is None:
+            self.notify("No particle under the pointer or crosshair to pin", severity="warning",
+                        timeout=1.5)
+        elif self.sim is not None:
+            self.sim.submit(pin_where_it_is(particle, self.post_message))
+
     def action_crosshair(self, dcol: int, drow: int) -> None:
         self.preview.move_crosshair(dcol, drow)
 

@@ -107,6 +107,17 @@ def test_ctrl_drag_pins_the_particle_where_it_is_let_go_and_r_restores(tmp_path)
             await until(pilot, lambda: grabbed not in app.sim.latest.model.pinned,
                         what="the scene's pins back")
 
+            # p pins the particle under the pointer, where it is (paused: it stays under it)
+            await pilot.press("space")
+            await pilot.pause(0.2)
+            target = app.renderer.pick(*app.preview.target)
+            assert target is not None and target not in app.sim.latest.model.pinned
+            await pilot.press("p")
+            await until(pilot, lambda: target in app.sim.latest.model.pinned,
+                        what=f"p pinned {target}: {notifications(app)}")
+            await pilot.press("r")
+            await until(pilot, lambda: target not in app.sim.latest.model.pinned)
+
             # a plain drag pins nothing
             await pilot.mouse_down("#preview", offset=(wd // 2, 14))
             other = app._grabbed
