@@ -202,7 +202,7 @@ def span(pair: list[int], count: int, where: str, axis: str) -> range:
     if not pair:
         return range(count)
     first, last = (v + count if v < 0 else v for v in pair)
-    for v, shown in zip((first, last), pair):
+    for v in (first, last):
         if not 0 <= v < count:
             raise _error(f"{where} = {pair} is outside the sheet: it has {count} {axis} "
                          f"(0 to {count - 1}, or −{count} to −1 from the end)")

@@ -44,7 +44,7 @@ class Hold:
     """Particles held at their rest place plus an offset; some slots follow tracks."""
     index: np.ndarray   # (K,) particle indices
     rest: np.ndarray    # (K, 3) their places on the flat sheet, m
-    offset: np.ndarray  # (K, 3) static offsets, m (a moving slot's is its track's)
+    offset: np.ndarray  # (K, 3) static offsets, m (unused in moving slots: their track says)
     moving: tuple = ()  # ((slots (k,), Track), ...)
 
     def at(self, t: float) -> np.ndarray:
