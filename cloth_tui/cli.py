@@ -86,7 +86,9 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     _add_scene_args(p)
     p.add_argument("--frames", type=_positive_int, default=120, help="frames to simulate")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--dump", metavar="FILE.npz", help="write final positions and resolution")
+    p.add_argument("--dump", metavar="FILE.npz",
+                   help="write final positions, the grid's shape (nz, nx) and, for a square "
+                   "grid, its resolution")
 
     p = sub.add_parser("render", help="render a scene headless to PNG, MP4 or GIF")
     _add_scene_args(p)
@@ -179,7 +181,11 @@ def cmd_simulate(args) -> int:
     if args.dump:
         from .util import atomic_write
         with atomic_write(Path(args.dump)) as fh:
-            np.savez(fh, positions=sim.state.x, resolution=np.int64(sim.model.n))
+            m = sim.model
+            # `resolution` (particles a side) only where there is one: a reader of older
+            # dumps then fails on a rectangle instead of misreading it.
+            square = {"resolution": np.int64(m.nx)} if m.nx == m.nz else {}
+            np.savez(fh, positions=sim.state.x, shape=np.array(m.shape, np.int64), **square)
     if args.json:
         print(json.dumps(stats))
     else:

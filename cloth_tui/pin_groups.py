@@ -90,7 +90,8 @@ DEFAULT_GROUP = PinGroup()
 
 def grid_of(cloth) -> tuple[int, int]:
     """(rows, cols) of the sheet's particle grid, from its [cloth] section."""
-    return cloth.resolution, cloth.resolution
+    nx, nz = cloth.grid_shape()
+    return nz, nx
 
 
 def _error(message: str) -> Exception:

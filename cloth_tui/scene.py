@@ -23,7 +23,8 @@ from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
 
 SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
-MAX_RESOLUTION = 512
+MAX_RESOLUTION = 512  # particles along either side of the sheet
+NAIVE_MAX_PARTICLES = 128 * 128  # naive self-collision is O(N²): beyond this, the hash
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
 TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
@@ -42,10 +43,13 @@ class SceneError(ValueError):
 
 def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
         hi: float | None = None, lo_open: bool = False, hi_open: bool = False,
-        choices: tuple[str, ...] | None = None, kind: str = "") -> Any:
-    """Declare a scene key: default, help text, unit and what values are allowed."""
+        choices: tuple[str, ...] | None = None, kind: str = "",
+        pair: tuple[str, str] | None = None) -> Any:
+    """Declare a scene key: default, help text, unit and what values are allowed. `pair`
+    names the two entries of the list the key also accepts in place of one number (each
+    entry within the same range), as in [width, length]."""
     meta = dict(doc=doc, unit=unit, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open,
-                choices=choices, kind=kind)
+                choices=choices, kind=kind, pair=pair)
     if isinstance(default, list):
         return field(default_factory=lambda: list(default), metadata=meta)
     return field(default=default, metadata=meta)
@@ -69,8 +73,13 @@ CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
 
 @dataclass
 class Cloth:
-    size: float = key(1.0, "side of the square sheet", unit="m", lo=0.01, hi=100.0)
-    resolution: int = key(26, "particles per side (the original's 500 → 26)", lo=2, hi=MAX_RESOLUTION)
+    size: float | list = key(1.0, "the sheet: a number is the side of a square, [width, "
+                             "length] a rectangle (width along x, length along z)", unit="m",
+                             lo=0.01, hi=100.0, pair=("width", "length"))
+    resolution: int | list = key(26, "particles along the longer side, the other side getting "
+                                 "the count nearest to equal spacing (the original's 500 → "
+                                 "26); or [nx, nz], particles along x and along z", lo=2,
+                                 hi=MAX_RESOLUTION, pair=("nx", "nz"))
     pinned: str = key("corners", "which particles are held fixed", choices=PIN_MODES)
     pin_fraction: float = key(0.05, "share of particles pinned when pinned = \"random\"",
                               lo=0.0, hi=1.0)
@@ -81,6 +90,37 @@ class Cloth:
                           "original's equal masses)", choices=MASS_MODELS)
     height: float = key(0.25, "initial height of the flat, horizontal sheet", unit="m",
                         lo=-1e3, hi=1e3)
+
+    def dimensions(self) -> tuple[float, float]:
+        """(width, length) in metres: the sheet's extent along x and along z."""
+        if isinstance(self.size, list):
+            return float(self.size[0]), float(self.size[1])
+        return float(self.size), float(self.size)
+
+    def extent(self) -> float:
+        """The sheet's longer side (m): what views, fog and the ground scale with."""
+        return max(self.dimensions())
+
+    def grid_shape(self) -> tuple[int, int]:
+        """(nx, nz): particles along x (columns) and along z (rows)."""
+        if isinstance(self.resolution, list):
+            return int(self.resolution[0]), int(self.resolution[1])
+        width, length = self.dimensions()
+        n = int(self.resolution)
+        if width == length:
+            return n, n
+        longer, shorter = max(width, length), min(width, length)
+        other = _nearest_spacing_count(shorter, longer / (n - 1))
+        return (n, other) if width >= length else (other, n)
+
+
+def _nearest_spacing_count(side: float, spacing: float) -> int:
+    """The particle count along `side` whose spacing is nearest to `spacing`: 1 when the side
+    is under half a spacing (a single row, which validate refuses)."""
+    if side / spacing < 0.5:
+        return 1
+    below = max(2, math.floor(side / spacing) + 1)
+    return min((below, below + 1), key=lambda c: (abs(side / (c - 1) - spacing), -c))
 
 
 @dataclass
@@ -285,18 +325,28 @@ def describe_allowed(f: dataclasses.Field) -> str:
     if m["kind"].startswith("vec3"):
         return ("[x, y, z] of numbers within ±1e+06" +
                 (f", of length ≥ {MIN_DIRECTION_NORM:g}" if "nonzero" in m["kind"] else ""))
-    t = f.type if isinstance(f.type, str) else f.type.__name__
+    t = value_type(f)
     lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
     hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
     kind = {"bool": "true or false", "int": "an integer", "float": "a number",
             "str": "a string"}.get(t, t)
-    return f"{kind}{' with ' + lo + 'value' + hi if (lo or hi) else ''}"
+    one = f"{kind}{' with ' + lo + 'value' + hi if (lo or hi) else ''}"
+    if m["pair"]:
+        return f"{one}, or [{', '.join(m['pair'])}], two of them"
+    return one
+
+
+def value_type(f: dataclasses.Field) -> str:
+    """The declared type's name ("int", "float", ...); for a key that also takes a pair
+    (`float | list`), the type of one number."""
+    t = f.type if isinstance(f.type, str) else f.type.__name__
+    return t.split("|")[0].strip()
 
 
 def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
     """Check one value against its declaration; return it in its canonical Python type."""
     f = {f.name: f for f in dataclasses.fields(section_obj)}[name]
-    m, t = f.metadata, (f.type if isinstance(f.type, str) else f.type.__name__)
+    m, t = f.metadata, value_type(f)
 
     def bad(reason: str = "") -> SceneError:
         shown = short_repr(value)
@@ -334,25 +384,34 @@ def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
             _check_texture(value, bad)
         return value
     if t in ("int", "float"):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise bad()
-        if t == "int":
-            if isinstance(value, float):
-                if not (math.isfinite(value) and value.is_integer()):
-                    raise bad()
-                value = int(value)
-        else:
-            as_float = finite_float(value)
-            if as_float is None:
-                raise bad("not a finite number")
-            value = as_float
-        lo, hi = m["lo"], m["hi"]
-        if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
-            raise bad()
-        if hi is not None and (value > hi or (m["hi_open"] and value == hi)):
-            raise bad()
-        return value
+        if m["pair"] and isinstance(value, (list, tuple)):
+            if len(value) != 2:
+                raise bad(f"a list needs two entries, {' and '.join(m['pair'])}")
+            return [_number(v, t, m, bad) for v in value]
+        return _number(value, t, m, bad)
     raise bad()
+
+
+def _number(value: Any, t: str, m: Any, bad) -> int | float:
+    """One int or float value checked against its declaration's range."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise bad()
+    if t == "int":
+        if isinstance(value, float):
+            if not (math.isfinite(value) and value.is_integer()):
+                raise bad()
+            value = int(value)
+    else:
+        as_float = finite_float(value)
+        if as_float is None:
+            raise bad("not a finite number")
+        value = as_float
+    lo, hi = m["lo"], m["hi"]
+    if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
+        raise bad()
+    if hi is not None and (value > hi or (m["hi_open"] and value == hi)):
+        raise bad()
+    return value
 
 
 def _check_texture(value: str, bad) -> None:
@@ -410,10 +469,34 @@ def validate(scene: Scene) -> None:
                          f"{lowest_held:g} m, inside the floor (scene.floor_height = "
                          f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m); raise "
                          "cloth.height or lower the floor")
-    n = scene.cloth.resolution
-    if b.self_collision == "naive" and n > 128:
-        raise SceneError(f"behavior.self_collision = \"naive\" is O(n²) and limited to "
-                         f"cloth.resolution ≤ 128 (got {n}); use \"hash\"")
+    nx, nz = _check_grid(scene.cloth)
+    if b.self_collision == "naive" and nx * nz > NAIVE_MAX_PARTICLES:
+        raise SceneError(f"behavior.self_collision = \"naive\" is O(N²) and limited to "
+                         f"{NAIVE_MAX_PARTICLES} particles (128 × 128; cloth.resolution "
+                         f"gives {nx} × {nz}); use \"hash\"")
+
+
+def _check_grid(cloth: Cloth) -> tuple[int, int]:
+    """The sheet's (nx, nz), refused when a side would have a single particle (a sheet of one
+    row has no cells). Neither side can exceed MAX_RESOLUTION: a pair's entries are checked
+    against it, and an integer resolution gives the shorter side no more than the longer."""
+    nx, nz = cloth.grid_shape()
+    for axis, count, line in (("x", nx, "column"), ("z", nz, "row")):
+        if count < 2:
+            width, length = cloth.dimensions()
+            raise SceneError(f"cloth.size = {_toml_text(cloth.size)} at cloth.resolution = "
+                             f"{_toml_text(cloth.resolution)} makes a sheet of a single {line} "
+                             f"(1 particle along {axis}: {width:g} m × {length:g} m with "
+                             f"{max(nx, nz)} along the longer side); raise cloth.resolution or "
+                             "give [nx, nz] with at least 2 along each side")
+    return nx, nz
+
+
+def _toml_text(value: Any) -> str:
+    """A number or a list of numbers as written in a scene file."""
+    if isinstance(value, list):
+        return "[" + ", ".join(f"{v:g}" for v in value) + "]"
+    return f"{value:g}"
 
 
 def _section_from_dict(cls: type, data: Any, where: str) -> Any:

@@ -66,6 +66,26 @@ def test_dump_writes_positions(tmp_path):
     assert main(["simulate", "default", "--frames", "2", "--dump", str(out)]) == 0
     d = np.load(out)
     assert d["positions"].shape == (676, 3) and int(d["resolution"]) == 26
+    assert tuple(d["shape"]) == (26, 26)
+
+
+def test_dump_of_a_rectangle_writes_its_shape_rows_first(tmp_path):
+    out = tmp_path / "r.npz"
+    assert main(["simulate", "default", "--frames", "2", "--dump", str(out), "--set",
+                 "cloth.size=[2, 0.5]", "--set", "cloth.resolution=[21, 6]"]) == 0
+    d = np.load(out)
+    assert tuple(d["shape"]) == (6, 21) and "resolution" not in d.files
+    grid = d["positions"].reshape(6, 21, 3)
+    assert grid[0, -1, 0] - grid[0, 0, 0] == pytest.approx(2.0, abs=0.05)  # x along a row
+    assert grid[-1, 0, 2] - grid[0, 0, 2] == pytest.approx(0.5, abs=0.05)  # z down a column
+
+
+@pytest.mark.parametrize("value", ["cloth.size=[1, 0.01]", "cloth.resolution=[4]",
+                                   "cloth.size=[1, nan]"])
+def test_bad_rectangles_exit_2_with_one_line(value, capsys):
+    assert main(["simulate", "default", "--frames", "1", "--set", value]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "cloth." in err and "Traceback" not in err
 
 
 @pytest.mark.parametrize("content, args", [

@@ -103,3 +103,95 @@ def test_with_objects_replaces_and_validates_the_objects():
         base.with_objects([{"type": "mesh"}])
     with pytest.raises(SceneError, match=r"objects\[1\]\.radius"):
         base.with_objects([{"type": "sphere"}, {"type": "sphere", "radius": -1.0}])
+
+
+# -- rectangular sheets ---------------------------------------------------------------------
+@pytest.mark.parametrize("size, resolution, shape", [
+    (1.0, 26, (26, 26)),                 # a square, as before
+    ([2.0, 1.0], 26, (26, 14)),          # 26 along the longer x, 14 along z: 1/13 m apart
+    ([1.0, 0.1], 41, (41, 5)),           # the strip: 0.025 m both ways
+    ([0.1, 1.0], 41, (5, 41)),           # the same strip along z
+    ([1.0, 0.3], 11, (11, 4)),           # 0.1 m along x; 4 rows give 0.1 m exactly
+    ([1.0, 0.34], 11, (11, 4)),          # 0.113 m is nearer 0.1 than 0.085 m (5 rows)
+    ([1.0, 0.36], 11, (11, 5)),          # 0.09 m is nearer 0.1 than 0.12 m (4 rows)
+    (1.0, [7, 13], (7, 13)),             # given counts: spacings 1/6 m and 1/12 m
+    ([3.0, 1.0], [31, 11], (31, 11)),
+])
+def test_grid_shape_of_each_form(size, resolution, shape):
+    s = Scene().with_values({"cloth.size": size, "cloth.resolution": resolution})
+    assert s.cloth.grid_shape() == shape
+    width, length = (size, size) if isinstance(size, float) else size
+    assert s.cloth.dimensions() == (width, length)
+
+
+def test_an_integer_resolution_spaces_the_shorter_side_nearest_to_the_longer():
+    for length in (0.05, 0.13, 0.27, 0.5, 0.61, 0.99):
+        s = Scene().with_values({"cloth.size": [1.0, length], "cloth.resolution": 21})
+        nx, nz = s.cloth.grid_shape()
+        assert nx == 21
+        want = 1.0 / 20
+        best = min(range(2, 30), key=lambda k: abs(length / (k - 1) - want))
+        assert nz == best, length
+
+
+def test_pairs_load_save_and_override_round_trip(tmp_path):
+    s = sf.apply_overrides(Scene(), ["cloth.size=[2, 0.5]", "cloth.resolution=[30, 9]"])
+    assert s.cloth.size == [2.0, 0.5] and s.cloth.resolution == [30, 9]
+    assert isinstance(s.cloth.resolution[0], int)
+    back = sf.load(sf.save(s, tmp_path / "banner.toml"))
+    assert back == s and back.cloth.grid_shape() == (30, 9)
+    assert "size = [2.0, 0.5]" in (tmp_path / "banner.toml").read_text()
+
+
+@pytest.mark.parametrize("key, value, words", [
+    ("cloth.size", [1.0], ["cloth.size", "two entries", "[width, length]"]),
+    ("cloth.size", [1.0, 2.0, 3.0], ["cloth.size", "two entries"]),
+    ("cloth.size", [1.0, float("nan")], ["cloth.size", "finite"]),
+    ("cloth.size", [1.0, float("inf")], ["cloth.size", "finite"]),
+    ("cloth.size", [0.0, 1.0], ["cloth.size", "0.01 ≤"]),
+    ("cloth.size", [1.0, -1.0], ["cloth.size", "0.01 ≤"]),
+    ("cloth.size", [1.0, "wide"], ["cloth.size", "'wide'"]),
+    ("cloth.size", [1.0, True], ["cloth.size"]),
+    ("cloth.resolution", [7], ["cloth.resolution", "[nx, nz]"]),
+    ("cloth.resolution", [7, 1], ["cloth.resolution", "2 ≤"]),
+    ("cloth.resolution", [7, 513], ["cloth.resolution", "≤ 512"]),
+    ("cloth.resolution", [7, 2.5], ["cloth.resolution", "integer"]),
+    ("cloth.resolution", [[7, 8], 9], ["cloth.resolution"]),
+])
+def test_bad_pairs_are_one_line_errors(key, value, words):
+    s = Scene()
+    with pytest.raises(SceneError) as e:
+        s.with_value(key, value)
+    assert "\n" not in str(e.value)
+    for w in words:
+        assert w in str(e.value)
+    assert s.cloth.size == 1.0 and s.cloth.resolution == 26  # left untouched
+
+
+def test_a_sheet_so_thin_it_has_one_row_is_refused():
+    # 1 m × 1 cm at 26 along x: 4 cm apart, so the width holds a quarter of a spacing.
+    with pytest.raises(SceneError) as e:
+        sf.loads("[cloth]\nsize = [1.0, 0.01]\nresolution = 26\n")
+    assert "single row" in str(e.value) and "1 particle along z" in str(e.value)
+    assert "\n" not in str(e.value)
+    s = sf.loads("[cloth]\nsize = [1.0, 0.01]\nresolution = [26, 2]\n")  # counts given: fine
+    assert s.cloth.grid_shape() == (26, 2)
+    with pytest.raises(SceneError, match="single column"):
+        sf.loads("[cloth]\nsize = [0.01, 1.0]\nresolution = 26\n")
+
+
+def test_naive_self_collision_is_bounded_by_particles_on_any_shape():
+    Scene().with_values({"behavior.self_collision": "naive", "cloth.resolution": [256, 64]})
+    with pytest.raises(SceneError, match="naive"):
+        Scene().with_values({"behavior.self_collision": "naive",
+                             "cloth.resolution": [256, 65]})
+
+
+def test_square_scenes_keep_their_numbers_and_forms():
+    # Files written before the pair forms load to the same values they always had.
+    for name in builtin_scenes():
+        s = sf.load(name)
+        assert isinstance(s.cloth.size, float) and isinstance(s.cloth.resolution, int)
+        n = s.cloth.resolution
+        assert s.cloth.grid_shape() == (n, n)
+        assert s.cloth.dimensions() == (s.cloth.size, s.cloth.size)

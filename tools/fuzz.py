@@ -76,7 +76,7 @@ def _number(rng: random.Random, f: dataclasses.Field) -> float | int:
         v = math.exp(rng.uniform(math.log(lo_pos), math.log(hi)))
     else:
         v = rng.uniform(lo, hi)
-    if f.type in ("int", int):
+    if sc.value_type(f) == "int":
         v = int(round(v))
     elif m["lo_open"] and v == lo:
         v = lo + abs(lo) * 1e-9 + 1e-12
@@ -260,8 +260,9 @@ def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
     b, c = scene.behavior, scene.cloth
     if b.solver != "springs" or sc.integrator_for(b) == "implicit_euler":
         return False
-    n = c.resolution
-    lightest = c.mass / n ** 2 if c.mass_model == "uniform" else c.mass / (n - 1) ** 2 / 4
+    nx, nz = c.grid_shape()
+    lightest = c.mass / (nx * nz) if c.mass_model == "uniform" else \
+        c.mass / ((nx - 1) * (nz - 1)) / 4
     h = 1.0 / (b.frame_rate * b.substeps * 2 ** MAX_GUARD_LEVEL)
     return h > 0.66 * math.sqrt(lightest / b.stiffness)
 

@@ -136,12 +136,12 @@ def study_scene(cfg: StudyConfig, solver: str = "springs", integrator: str = "rk
 
 
 def study_model(scene: Scene, pinned: str = "two_corners"):
-    """The scene's model; `two_corners` pins only particles (0,0) and (0,n−1)."""
+    """The scene's model; `two_corners` pins only particles (0, 0) and (0, nx−1), the ends
+    of row 0."""
     model = build_model(scene.cloth, scene.behavior)
     if pinned != "two_corners":
         return model
-    n = model.n
-    pins = np.array([0, n - 1], dtype=np.int64)
+    pins = np.array([0, model.nx - 1], dtype=np.int64)
     inv_mass = 1.0 / model.mass
     inv_mass[pins] = 0.0
     for a in (pins, inv_mass):
@@ -171,9 +171,9 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     solver = step.solver
     lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
     e0 = energy(model, state, scene, lambdas, h)
-    scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.size
+    scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.extent
     x0 = state.x.copy()
-    limit = BLOWUP_DISTANCE * model.size
+    limit = BLOWUP_DISTANCE * model.extent
     worst, stable = 0.0, True
     rates = []  # wall time per substep of each chunk between checks
     done = 0

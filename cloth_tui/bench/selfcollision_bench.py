@@ -19,14 +19,14 @@ FOLDS = 3  # per direction
 
 def crumpled(model, gap: float) -> np.ndarray:
     """Positions of the sheet folded FOLDS times along each axis, layers `gap` apart."""
-    n, size = model.n, model.size
-    u = np.linspace(0.0, FOLDS, n)
-    tri = np.abs(u % 2.0 - 1.0)          # 0…1…0: the accordion
-    layer = np.minimum(np.floor(u), FOLDS - 1)
-    x = np.empty((n, n, 3))
-    x[..., 0] = size / FOLDS * tri[None, :]
-    x[..., 2] = size / FOLDS * tri[:, None]
-    x[..., 1] = model.rest_positions[0, 1] + gap * (layer[None, :] + FOLDS * layer[:, None])
+    ux, uz = np.linspace(0.0, FOLDS, model.nx), np.linspace(0.0, FOLDS, model.nz)
+    tri_x, tri_z = np.abs(ux % 2.0 - 1.0), np.abs(uz % 2.0 - 1.0)  # 0…1…0: the accordion
+    layer_x = np.minimum(np.floor(ux), FOLDS - 1)
+    layer_z = np.minimum(np.floor(uz), FOLDS - 1)
+    x = np.empty(model.shape + (3,))
+    x[..., 0] = model.width / FOLDS * tri_x[None, :]
+    x[..., 2] = model.length / FOLDS * tri_z[:, None]
+    x[..., 1] = model.rest_positions[0, 1] + gap * (layer_x[None, :] + FOLDS * layer_z[:, None])
     return x.reshape(-1, 3)
 
 

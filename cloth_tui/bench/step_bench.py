@@ -22,7 +22,8 @@ from .serial_step import SerialStep
 from .timing import Timing, first_call_s, time_alternating, time_calls
 
 
-def bare_scene(n: int, iterations: int = 4) -> Scene:
+def bare_scene(n: int | list, iterations: int = 4) -> Scene:
+    """The bare step's scene, n particles a side (or [nx, nz])."""
     s = Scene()
     s.cloth.resolution = n
     s.cloth.pinned = "corners"

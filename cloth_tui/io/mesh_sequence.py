@@ -49,7 +49,8 @@ class MeshSequenceWriter:
         self.mesh = pv.PolyData(np.asarray(model.rest_positions, dtype=np.float64).copy(),
                                 _vtk_faces(self.faces.all))
         # float32: VTK's PLY writer takes no other texture coordinates (and crashes on them)
-        self.mesh.active_texture_coordinates = grid_uv(model.n).astype(np.float32)
+        self.mesh.active_texture_coordinates = grid_uv(model.nx, model.nz, model.width,
+                                                       model.length).astype(np.float32)
         self.paths: list[Path] = []
 
     def write(self, frame: BakedFrame) -> None:

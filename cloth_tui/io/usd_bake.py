@@ -2,9 +2,11 @@
 
     /World                 Xform, the default prim
       Cloth                Mesh: faces, UVs (primvars:st), time-sampled points, normals, extent;
-                           on a torn sheet also time-sampled faces (those with no torn edge,
-                           a sample where they change) and cloth_tui:alive (the constraints'
-                           intact flags, for reading the bake back)
+                           cloth_tui:grid, the particle grid's (nx, nz): points are nz rows
+                           of nx (absent from bakes made before rectangular sheets: those
+                           are square); on a torn sheet also time-sampled faces (those with
+                           no torn edge, a sample where they change) and cloth_tui:alive (the
+                           constraints' intact flags, for reading the bake back)
       Ground               Mesh: a quad at the floor's height (when the scene has a floor)
       Objects/Object_k     Xform: translate (time-sampled once the object moves) and the exact
                            shape as cloth_tui:* attributes, for reading the bake back
@@ -43,6 +45,7 @@ GROUND_HALF = 5.0       # m: half the side of the ground quad
 PLANE_HALF = 1.0        # m: half the side of the quad that shows an (infinite) plane
 SCENE_KEY = "cloth_tui:scene"
 ALIVE_KEY = "cloth_tui:alive"  # the cloth's intact flags, on a torn sheet (model.edges order)
+GRID_KEY = "cloth_tui:grid"    # (nx, nz): particles along x (a row) and along z
 VERSION_KEY = "cloth_tui:format"
 FORMAT_VERSION = 1
 
@@ -110,7 +113,10 @@ class UsdBakeWriter:
         self.cloth.SetNormalsInterpolation(UsdGeom.Tokens.vertex)
         st = UsdGeom.PrimvarsAPI(self.cloth).CreatePrimvar(
             "st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex)
-        st.Set(Vt.Vec2fArray.FromNumpy(grid_uv(model.n).astype(np.float32)))
+        st.Set(Vt.Vec2fArray.FromNumpy(
+            grid_uv(model.nx, model.nz, model.width, model.length).astype(np.float32)))
+        self.cloth.GetPrim().CreateAttribute(GRID_KEY, Sdf.ValueTypeNames.Int2,
+                                             custom=True).Set(Gf.Vec2i(model.nx, model.nz))
         self.cloth.CreateDisplayColorPrimvar(UsdGeom.Tokens.constant).Set(
             [Gf.Vec3f(*_hex_color(scene.appearance.cloth_color))])
         if scene.scene.floor:
@@ -128,7 +134,7 @@ class UsdBakeWriter:
     def _define_ground(self) -> None:
         UsdGeom, Vt = self.UsdGeom, self.Vt
         s = self.scene.scene
-        half = GROUND_HALF * max(1.0, self.scene.cloth.size)
+        half = GROUND_HALF * max(1.0, self.scene.cloth.extent())
         ground = UsdGeom.Mesh.Define(self.stage, "/World/Ground")
         corners = _quad((0.0, s.floor_height, 0.0), (0.0, 1.0, 0.0), half)
         ground.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(corners.astype(np.float32)))

@@ -12,7 +12,7 @@ from ..scene import SceneError
 from ..scene_files import loads
 from ..sim.protocols import ObjectPose
 from ..usage import UsageError
-from .usd_bake import ALIVE_KEY, SCENE_KEY, USD_SUFFIXES, missing_usd_message
+from .usd_bake import ALIVE_KEY, GRID_KEY, SCENE_KEY, USD_SUFFIXES, missing_usd_message
 
 CLOTH_PATH = "/World/Cloth"
 OBJECTS_PATH = "/World/Objects"
@@ -54,6 +54,9 @@ class UsdBake:
             raise UsageError(f"{self.path}: its recorded scene is invalid: {e}") from None
         self.points = cloth.GetPointsAttr()
         self._alive = cloth.GetPrim().GetAttribute(ALIVE_KEY)  # written once the sheet tore
+        grid = cloth.GetPrim().GetAttribute(GRID_KEY)
+        # (nx, nz); None in a bake made before rectangular sheets (a square one)
+        self.grid = tuple(int(v) for v in grid.Get()) if grid and grid.HasValue() else None
         self.frames = [int(round(t)) for t in self.points.GetTimeSamples()]
         if not self.frames:
             raise UsageError(f"{self.path}: the bake holds no frames")

@@ -66,7 +66,7 @@ class Ground:
 
     def update(self, scene, texture_image) -> None:
         s, a = scene.scene, scene.appearance
-        scale = max(1.0, scene.cloth.size)  # a big sheet gets a wider ground and fog
+        scale = max(1.0, scene.cloth.extent())  # a big sheet gets a wider ground and fog
         self.mesh.points[:, [0, 2]] = self.base_xz * scale
         self.fog.points[:, [0, 2]] = self.fog_base_xz * scale
         self.grid.points[:, [0, 2]] = self.grid_base_xz * scale
@@ -196,18 +196,20 @@ class Poles:
 
     def update(self, scene) -> None:
         c, s = scene.cloth, scene.scene
-        key = (c.size, c.height, s.floor_height, s.floor)
+        width, length = c.dimensions()
+        key = (width, length, c.height, s.floor_height, s.floor)
         if key == self.key:
             return
         self.key = key
-        top, bottom = c.height, s.floor_height if s.floor else c.height - 0.75 * c.size
+        extent = max(width, length)
+        top, bottom = c.height, s.floor_height if s.floor else c.height - 0.75 * extent
         if top - bottom <= 1e-6:
             self.actor.SetVisibility(False)
             return
-        half, r = c.size / 2, max(0.006, 0.008 * c.size)
+        r = max(0.006, 0.008 * extent)
         poles = [self.pv.Cylinder(center=(x, 0.5 * (top + bottom), z), direction=(0, 1, 0),
                                   radius=r, height=top - bottom, resolution=POLE_SIDES)
-                 for x in (-half, half) for z in (-half, half)]
+                 for x in (-width / 2, width / 2) for z in (-length / 2, length / 2)]
         self.mesh.copy_from(poles[0].append_polydata(*poles[1:]))
         self.actor.SetVisibility(True)
 

@@ -95,7 +95,7 @@ class Renderer:
         """Apply appearance, floor and pole settings; cheap when nothing changed."""
         self._scene = scene
         a, s, c = scene.appearance, scene.scene, scene.cloth
-        key = (tuple(vars(a).items()), s.floor, s.floor_height, c.size, c.height)
+        key = (tuple(vars(a).items()), s.floor, s.floor_height, c.extent(), c.height)
         if key == self._appearance_key:
             return
         self._appearance_key = key
@@ -169,7 +169,8 @@ class Renderer:
         self.cloth = pv.PolyData()  # points alone: PolyData(points) would add a vertex each
         self.cloth.points = positions.astype(np.float32)
         self._model, self._faces_for, self._tri_constraints = model, None, None
-        self.cloth.active_texture_coordinates = grid_uv(model.n)
+        self.cloth.active_texture_coordinates = grid_uv(model.nx, model.nz, model.width,
+                                                        model.length)
         self.cloth.point_data["Normals"] = np.zeros(positions.shape, np.float32)  # _update_cloth
         self.cloth.point_data.active_normals_name = "Normals"
         # NumPy views of VTK's own arrays: each frame writes into them, allocating nothing
@@ -198,7 +199,7 @@ class Renderer:
         the lines use them)."""
         model, alive = self._model, snapshot.alive
         torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
-        stride = 1 if torn else self._detail_stride()
+        stride = (1, 1) if torn else self._detail_stride()
         if self._faces_for == (stride, torn):
             return
         torn_changed = self._faces_for is None or self._faces_for[1] != torn
@@ -207,14 +208,15 @@ class Renderer:
             if self._tri_constraints is None:
                 self._tri_constraints = triangle_constraints(model)
             tri = intact_triangles(model, alive, self._tri_constraints)
-        elif stride == 1:
+        elif stride == (1, 1):
             tri = np.asarray(model.triangles, dtype=np.int64)
         else:
-            tri = grid_cell_triangles(model.n, thinned_rows(model.n, stride))
+            tri = grid_cell_triangles(model.nx, thinned_rows(model.nz, stride[0]),
+                                      thinned_rows(model.nx, stride[1]))
         self.cloth.faces = np.c_[np.full(len(tri), 3, np.int64), tri].ravel()
         self._tri = tri
         if torn_changed:
-            whole = tri if stride == 1 else np.asarray(model.triangles, dtype=np.int64)
+            whole = tri if stride == (1, 1) else np.asarray(model.triangles, dtype=np.int64)
             edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
             self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
             self._set_lines(alive.astype(bool) if torn else
@@ -227,18 +229,22 @@ class Renderer:
         self.lines.lines = np.c_[np.full(len(kept), 2, np.int64), kept].ravel()
         self.lines.cell_data["rgb"] = family_colors(np.asarray(model.family)[keep])
 
-    def _detail_stride(self) -> int:
-        """How many grid rows one drawn row spans: 1 unless the sheet's cells would be
-        narrower than MIN_CELL_PX on screen (at 640×384 a 128² sheet's are 1.9 px, a
-        256²'s 0.9 px). Software GL pays per triangle, not per pixel, for triangles this
-        small (each is set up and shaded in at least one 4×4 block: a 128² sheet's 32k
-        triangles were 60 % of a 640×384 frame); what thinning loses, creases a few pixels
-        wide, hardly shows. The wireframe is always drawn whole: it shows the mesh itself."""
-        if self._scene.appearance.wireframe or self._model.n < 3:
-            return 1
+    def _detail_stride(self) -> tuple[int, int]:
+        """How many grid rows one drawn row spans, and how many columns one drawn column: 1
+        unless the sheet's cells would be narrower than MIN_CELL_PX on screen along that
+        side (at 640×384 a 128² sheet's are 1.9 px, a 256²'s 0.9 px). Software GL pays per
+        triangle, not per pixel, for triangles this small (each is set up and shaded in at
+        least one 4×4 block: a 128² sheet's 32k triangles were 60 % of a 640×384 frame);
+        what thinning loses, creases a few pixels wide, hardly shows. Each side is thinned
+        by its own spacing, so a strip's coarse side is not thinned for its fine one. The
+        wireframe is always drawn whole: it shows the mesh itself."""
+        m = self._model
+        if self._scene.appearance.wireframe:
+            return 1, 1
         half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
-        cell_px = self._model.spacing * self.size[1] / (2.0 * half_height_m)
-        return max(1, math.ceil(MIN_CELL_PX / max(cell_px, 1e-9)))
+        px_per_m = self.size[1] / (2.0 * half_height_m)
+        return tuple(1 if count < 3 else max(1, math.ceil(MIN_CELL_PX / max(h * px_per_m, 1e-9)))
+                     for count, h in ((m.nz, m.spacing_z), (m.nx, m.spacing_x)))
 
     def _shared_lines(self):
         mesh = self.pv.PolyData()
@@ -274,10 +280,11 @@ class Renderer:
     # -- camera ---------------------------------------------------------------------------
     def reset_camera(self) -> None:
         c, s = self._scene.cloth, self._scene.scene
-        scale = max(c.size, 0.25)
+        extent = c.extent()  # the longer side: a banner fits the view as a square of its width
+        scale = max(extent, 0.25)
         self.azimuth, self.elevation = HOME_AZIMUTH, HOME_ELEVATION
         self.distance = HOME_DISTANCE * scale
-        bottom = max(s.floor_height, c.height - c.size) if s.floor else c.height - c.size
+        bottom = max(s.floor_height, c.height - extent) if s.floor else c.height - extent
         self.target = np.array([0.0, 0.5 * (c.height + bottom) + 0.05 * scale, 0.0])
         self._apply_camera()
 
@@ -311,7 +318,7 @@ class Renderer:
         cam.SetPosition(*(self.target + offset))
         cam.SetViewUp(0.0, 1.0, 0.0)
         cam.SetViewAngle(VIEW_ANGLE)
-        far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.size)
+        far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.extent())
         cam.SetClippingRange(max(0.01, 0.02 * distance), far)
         self.ground.shade(self.elevation)
 
@@ -337,8 +344,8 @@ class Renderer:
         self.objects.update(snapshot.objects)
         if self.markers is not None:
             self.markers.update(snapshot.model, positions, self._scene.appearance.show_pins)
-        self.shadow.update(positions, snapshot.model.n, self.elevation, self._tri,
-                           self._faces_for[1])
+        self.shadow.update(positions, (snapshot.model.nx, snapshot.model.nz), self.elevation,
+                           self._tri, self._faces_for[1])
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
             self.azimuth = (self.azimuth + step) % 360.0

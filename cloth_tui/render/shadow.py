@@ -1,5 +1,5 @@
 """The cloth's shadow on the ground, cheaply: a coarse copy of the sheet (at most 33×33 of its
-particles) projected along the sun's direction onto the floor and drawn there, unlit, in the
+particles; of a rectangle, at most 33 along each side) projected along the sun's direction onto the floor and drawn there, unlit, in the
 colour of ground the sun does not reach. A planar projection is exact for a flat floor and a
 directional light; PyVista's shadow maps draw the scene twice and SSAO adds passes over every
 pixel, both far over the frame budget in software GL (measured in docs/rendering.md).
@@ -21,17 +21,20 @@ from ..sim.jit import kernel
 from ..sim.surface import grid_cell_triangles
 from .props import FOG_FAR, FOG_NEAR
 
-MAX_SIDE = 33          # particles per side of the coarse copy: a smooth outline, ~2k triangles
+MAX_SIDE = 33          # particles along each side of the coarse copy: a smooth outline, ≤ 2k triangles
 LIFT = 0.001           # m above the floor: over the ground, under the grid and the fog disc
 TEXTURED_ALPHA = 0.45  # darkening over a textured ground
 
 
-def coarse_grid(n: int, side: int = MAX_SIDE) -> tuple[np.ndarray, np.ndarray]:
-    """Particle indices of an evenly thinned m×m copy of the n×n grid (corners kept) and its
-    triangles, two per cell, indexing that copy."""
-    rows = np.unique(np.round(np.linspace(0, n - 1, min(n, side))).astype(np.int64))
-    m = len(rows)
-    return (rows[:, None] * n + rows[None, :]).ravel(), grid_cell_triangles(m, np.arange(m))
+def coarse_grid(nx: int, nz: int, side: int = MAX_SIDE) -> tuple[np.ndarray, np.ndarray]:
+    """Particle indices of an evenly thinned copy of the nz-row, nx-column grid (at most
+    `side` rows and columns, corners kept) and its triangles, two per cell, indexing that
+    copy."""
+    rows = np.unique(np.round(np.linspace(0, nz - 1, min(nz, side))).astype(np.int64))
+    cols = np.unique(np.round(np.linspace(0, nx - 1, min(nx, side))).astype(np.int64))
+    m = len(cols)
+    return ((rows[:, None] * nx + cols[None, :]).ravel(),
+            grid_cell_triangles(m, np.arange(len(rows)), np.arange(m)))
 
 
 @kernel(fastmath=False)
@@ -76,7 +79,7 @@ class Shadow:
         self.mesh = pv.PolyData()
         self.actor = None
         self.index = np.zeros(0, np.int64)
-        self.drawn = (-1, 0)  # (n, torn count) the mesh was built for
+        self.drawn = ((0, 0), 0)  # ((nx, nz), torn count) the mesh was built for
         self.ground = self.emissive = np.zeros(3)
         self.textured = False
         self.visible = False
@@ -87,19 +90,19 @@ class Shadow:
         self.ground, self.emissive = hex_rgb(a.ground_color), hex_rgb(a.ground_emissive)
         self.textured = ground_textured
         self.fog = hex_rgb(a.fog_color)
-        self.fog_scale = max(1.0, scene.cloth.size)
+        self.fog_scale = max(1.0, scene.cloth.extent())
         self.floor_height = s.floor_height
         self.visible = bool(s.floor)
         if self.actor is not None:
             self.actor.SetVisibility(self.visible)
 
-    def _build(self, n: int, torn_faces: np.ndarray | None) -> None:
+    def _build(self, nx: int, nz: int, torn_faces: np.ndarray | None) -> None:
         if self.actor is not None:
             self.plotter.remove_actor(self.actor, render=False)
         if torn_faces is None:
-            self.index, tri = coarse_grid(n)
+            self.index, tri = coarse_grid(nx, nz)
         else:
-            self.index, tri = np.arange(n * n, dtype=np.int64), torn_faces
+            self.index, tri = np.arange(nx * nz, dtype=np.int64), torn_faces
         m = len(self.index)
         self.mesh = self.pv.PolyData(np.zeros((m, 3), np.float32),
                                      np.c_[np.full(len(tri), 3), tri].ravel())
@@ -111,15 +114,17 @@ class Shadow:
         self._rgba_view = self.mesh.point_data["rgba"]
         self.actor.SetVisibility(self.visible)
 
-    def update(self, positions: np.ndarray, n: int, elevation_deg: float,
+    def update(self, positions: np.ndarray, grid: tuple[int, int], elevation_deg: float,
                torn_faces: np.ndarray | None = None, torn: int = 0) -> None:
-        """Project the sheet's `positions` (an n×n grid) for a camera `elevation_deg` high
-        (the headlight, which still reaches the shadow, depends on it). On a torn sheet
-        (`torn` constraints broken) the shadow is of `torn_faces`, the triangles drawn;
-        rebuilt only when n or the torn count changes, as the sheet's faces are."""
-        if (n, torn) != self.drawn:
-            self._build(n, torn_faces if torn else None)
-            self.drawn = (n, torn)
+        """Project the sheet's `positions` (a grid of `grid` = (nx, nz) particles) for a
+        camera `elevation_deg` high (the headlight, which still reaches the shadow, depends
+        on it). On a torn sheet (`torn` constraints broken) the shadow is of `torn_faces`,
+        the triangles drawn; rebuilt only when the grid or the torn count changes, as the
+        sheet's faces are."""
+        grid = (int(grid[0]), int(grid[1]))
+        if (grid, torn) != self.drawn:
+            self._build(*grid, torn_faces if torn else None)
+            self.drawn = (grid, torn)
         if not self.visible:
             return
         # untextured: the ground as flat_ground_light makes it, without the sun's term

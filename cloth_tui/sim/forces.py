@@ -205,10 +205,11 @@ class CustomField:
         self.accumulate(state.x, state.v, state.t, state.accel)
 
 
-def wave_rows(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """(driven, held) particle indices of the wave: the near edge (row n−1, z = +size/2) is
-    driven, the far edge (row 0, the one `one_edge` pins) is held."""
-    idx = np.arange(n * n).reshape(n, n)
+def wave_rows(nx: int, nz: int) -> tuple[np.ndarray, np.ndarray]:
+    """(driven, held) particle indices of the wave on an nz-row, nx-column grid: the near
+    edge (row nz−1, z = +length/2) is driven, the far edge (row 0, the one `one_edge` pins)
+    is held."""
+    idx = np.arange(nx * nz).reshape(nz, nx)
     return idx[-1, :].copy(), idx[0, :].copy()
 
 
@@ -221,7 +222,7 @@ class Wave:
     kinematic = True  # force-based solvers run `apply` once per substep, not per stage
 
     def __init__(self, model, amplitude: float, frequency: float):
-        driven, _ = wave_rows(model.n)
+        driven, _ = wave_rows(model.nx, model.nz)
         slot = {int(p): k for k, p in enumerate(model.pinned)}
         self.slots = np.array([slot[int(p)] for p in driven if int(p) in slot], np.int64)
         self.rest_y = model.rest_positions[model.pinned[self.slots], 1].copy()

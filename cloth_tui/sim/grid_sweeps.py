@@ -2,12 +2,13 @@
 
 Every constraint of the sheet joins grid particle (i, j) to (i + di, j + dj) for one of six
 offsets, and model.py's 12 colours split each offset by the parity of a row or a column (or
-of its half, for bending). The sweeps keep positions in a structure-of-arrays scratch grid of
-16 blocks, one per (i mod 4, j mod 4), each w×w with w = ⌈n/4⌉: particle (i, j) sits at
-k·w + m of its block, k = i div 4, m = j div 4. Since 4 is a multiple of every colour's
-period, a colour takes whole blocks, and all pairs whose first particle lies in block A have
-their second in one block B at one fixed offset: a colour is at most 16 runs a[t] – b[t + Δ],
-each up to w² long, that vectorise. (The layout before kept one run per row and lane, and
+of its half, for bending). The sheet has nz rows of nx particles. The sweeps keep positions
+in a structure-of-arrays scratch grid of 16 blocks, one per (i mod 4, j mod 4), each h rows
+of w places with h = ⌈nz/4⌉ and w = ⌈nx/4⌉: particle (i, j) sits at k·w + m of its block,
+k = i div 4, m = j div 4. Since 4 is a multiple of every colour's period, a colour takes
+whole blocks, and all pairs whose first particle lies in block A have their second in one
+block B at one fixed offset: a colour is at most 16 runs a[t] – b[t + Δ], each up to h·w
+long, that vectorise. (The layout before kept one run per row and lane, and
 setting up each of those short runs cost about half the sweep at n = 128.)
 
 A run that steps across a column edge (m + 1 = w) pairs particles that are not neighbours,
@@ -72,10 +73,10 @@ class SweepScratch:
 class SweepPlan:
     """Where the sweeps keep things for one model (NumPy, built once; see the module)."""
 
-    n: int
-    width: int               # w = ⌈n/4⌉
-    block: int               # doubles per block, w² + BLOCK_PAD
-    grid_offset: np.ndarray  # (n²,) int64: particle p's place in a plane
+    nx: int                  # particles in a row of the sheet
+    width: int               # w = ⌈nx/4⌉: places in a row of a block
+    block: int               # doubles per block, h·w + BLOCK_PAD, h = ⌈nz/4⌉
+    grid_offset: np.ndarray  # (nx·nz,) int64: particle p's place in a plane
     inv_mass: np.ndarray     # (plane,) inverse masses in the layout (padding 0)
     chunks: np.ndarray       # (K, 4) int64: a's first place, b's first place, first slot, length
     color_chunks: np.ndarray  # (13,) int64: colour c's chunks are [cc[c], cc[c+1])
@@ -95,20 +96,21 @@ class SweepPlan:
                             lam=np.zeros(self.slots))
 
 
-def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.ndarray,
-                inv_mass: np.ndarray) -> SweepPlan:
-    """The sweeps' layout and runs for a grid model. ValueError unless every constraint joins
-    grid neighbours and the model's colours are the sweeps' (in the same order)."""
-    w = -(-n // BLOCKS)
-    block = w * w + BLOCK_PAD
+def plan_sweeps(nx: int, nz: int, edges: np.ndarray, color_offsets: np.ndarray,
+                rest: np.ndarray, inv_mass: np.ndarray) -> SweepPlan:
+    """The sweeps' layout and runs for a grid model of nz rows of nx particles. ValueError
+    unless every constraint joins grid neighbours and the model's colours are the sweeps' (in
+    the same order)."""
+    w, h = -(-nx // BLOCKS), -(-nz // BLOCKS)
+    block = h * w + BLOCK_PAD
     plane = BLOCKS * BLOCKS * block
     plane += ((PLANE_SKEW - plane * 8) % 4096) // 8
-    i, j = np.divmod(np.arange(n * n), n)
+    i, j = np.divmod(np.arange(nx * nz), nx)
     grid_offset = ((i % BLOCKS) * BLOCKS + j % BLOCKS) * block + (i // BLOCKS) * w + j // BLOCKS
     w_grid = np.zeros(plane)
     w_grid[grid_offset] = inv_mass
 
-    colors = grid_colors(edges, n)
+    colors = grid_colors(edges, nx)
     for lo, hi in zip(color_offsets[:-1], color_offsets[1:]):
         if len(set(colors[lo:hi].tolist())) != 1:
             raise ValueError("the model's colours are not the grid sweeps' colours")
@@ -118,7 +120,8 @@ def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.n
 
     chunks, color_chunks, slot_a, slot_b = [], [0], [], []
     for c in range(NUM_COLORS):
-        for a_first, b_first, pair_a, pair_b in (_runs(c, n, w, block) if c in present else ()):
+        for a_first, b_first, pair_a, pair_b in (_runs(c, nx, nz, block) if c in present
+                                                 else ()):
             first_slot = sum(len(a) for a in slot_a)
             for t in range(0, len(pair_a), CHUNK):
                 chunks.append((a_first + t, b_first + t, first_slot + t,
@@ -129,23 +132,25 @@ def plan_sweeps(n: int, edges: np.ndarray, color_offsets: np.ndarray, rest: np.n
 
     slot_a = np.concatenate(slot_a) if slot_a else np.zeros(0, np.int64)
     slot_b = np.concatenate(slot_b) if slot_b else np.zeros(0, np.int64)
-    slot_edge = _match_slots(slot_a, slot_b, edges, n)
+    slot_edge = _match_slots(slot_a, slot_b, edges, nx * nz)
     slot_rest = np.zeros(len(slot_edge))
     slot_rest[slot_edge >= 0] = rest[slot_edge[slot_edge >= 0]]
     edge_slot = np.zeros(len(edges), np.int64)
     edge_slot[slot_edge[slot_edge >= 0]] = np.flatnonzero(slot_edge >= 0)
-    return SweepPlan(n=n, width=w, block=block, grid_offset=grid_offset, inv_mass=w_grid,
+    return SweepPlan(nx=nx, width=w, block=block, grid_offset=grid_offset, inv_mass=w_grid,
                      chunks=np.array(chunks, np.int64).reshape(-1, 4),
                      color_chunks=np.array(color_chunks, np.int64), slot_edge=slot_edge,
                      edge_slot=edge_slot,
                      rest=slot_rest, positions=np.zeros((3, plane)))
 
 
-def _runs(c: int, n: int, w: int, block: int):
+def _runs(c: int, nx: int, nz: int, block: int):
     """Colour c's runs, one per block its pairs start in: the places of the first a and b,
     and the particles each pair of the run joins (−1, −1 where it joins no grid neighbours:
     padding or a wrap across a column edge)."""
     di, dj = OFFSETS[c]
+    w, h = -(-nx // BLOCKS), -(-nz // BLOCKS)
+    places = h * w
     for ra in range(BLOCKS):
         for qa in range(BLOCKS):
             if not color_of(c, ra, qa):
@@ -153,25 +158,27 @@ def _runs(c: int, n: int, w: int, block: int):
             dk, rb = divmod(ra + di, BLOCKS)
             dm, qb = divmod(qa + dj, BLOCKS)
             shift = dk * w + dm  # b's place − a's place inside their blocks
-            t = np.arange(max(0, -shift), max(0, min(w * w, w * w - shift)))
+            t = np.arange(max(0, -shift), max(0, min(places, places - shift)))
             k, m = np.divmod(t, w)
             ia, ja = BLOCKS * k + ra, BLOCKS * m + qa
             kb, mb = np.divmod(t + shift, w)
             ib, jb = BLOCKS * kb + rb, BLOCKS * mb + qb
-            real = (ia < n) & (ja < n) & (ib == ia + di) & (jb == ja + dj) & (ib < n) \
-                & (jb >= 0) & (jb < n)
+            real = (ia < nz) & (ja < nx) & (ib == ia + di) & (jb == ja + dj) & (ib < nz) \
+                & (jb >= 0) & (jb < nx)
             if len(t):
                 yield ((ra * BLOCKS + qa) * block + t[0], (rb * BLOCKS + qb) * block + shift
-                       + t[0], np.where(real, ia * n + ja, -1), np.where(real, ib * n + jb, -1))
+                       + t[0], np.where(real, ia * nx + ja, -1),
+                       np.where(real, ib * nx + jb, -1))
 
 
-def grid_colors(edges: np.ndarray, n: int) -> np.ndarray:
-    """The colour (0–11) of each grid constraint: 2 per offset, by the parity of its first
-    particle's row or column (of its half, for bending). No two constraints of one colour
-    share a particle, so a colour can be projected in parallel without races (Gauss-Seidel
-    between colours). ValueError for a constraint between far particles."""
+def grid_colors(edges: np.ndarray, nx: int) -> np.ndarray:
+    """The colour (0–11) of each constraint of a grid nx particles wide: 2 per offset, by the
+    parity of its first particle's row or column (of its half, for bending). No two
+    constraints of one colour share a particle, so a colour can be projected in parallel
+    without races (Gauss-Seidel between colours). ValueError for a constraint between far
+    particles."""
     a, b = edges[:, 0], edges[:, 1]
-    ia, ja, di, dj = a // n, a % n, b // n - a // n, b % n - a % n
+    ia, ja, di, dj = a // nx, a % nx, b // nx - a // nx, b % nx - a % nx
     colors = np.full(len(edges), -1, np.int64)
     for kind in range(0, NUM_COLORS, 2):
         on = (di == OFFSETS[kind][0]) & (dj == OFFSETS[kind][1])
@@ -184,14 +191,14 @@ def grid_colors(edges: np.ndarray, n: int) -> np.ndarray:
 
 
 def _match_slots(slot_a: np.ndarray, slot_b: np.ndarray, edges: np.ndarray,
-                 n: int) -> np.ndarray:
+                 particles: int) -> np.ndarray:
     """The constraint of each slot (−1: none); ValueError unless each constraint has one."""
     slot_edge = np.full(len(slot_a), -1, np.int64)
     if len(edges):
-        key = edges[:, 0] * (n * n) + edges[:, 1]
+        key = edges[:, 0] * particles + edges[:, 1]
         order = np.argsort(key)
         sorted_key = key[order]
-        slot_key = slot_a * (n * n) + slot_b
+        slot_key = slot_a * particles + slot_b
         at = np.minimum(np.searchsorted(sorted_key, slot_key), len(key) - 1)
         found = (slot_a >= 0) & (sorted_key[at] == slot_key)
         slot_edge[found] = order[at[found]]
@@ -274,15 +281,15 @@ def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, a
 
 
 @kernel(inline="always")
-def _particle(place, n, width, block):
-    """The sheet's particle index of a place in the layout."""
+def _particle(place, nx, width, block):
+    """The sheet's particle index of a place in the layout (rows of nx particles)."""
     b, rem = place // block, place % block
     k, m = rem // width, rem % width
-    return (BLOCKS * k + b // BLOCKS) * n + BLOCKS * m + b % BLOCKS
+    return (BLOCKS * k + b // BLOCKS) * nx + BLOCKS * m + b % BLOCKS
 
 
 @kernel(inline="always")
-def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, n, width, block):
+def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, nx, width, block):
     """Every pair of chunk q: the vector pass, then the rare coincident pairs."""
     a0, b0, s0, count = chunks[q, 0], chunks[q, 1], chunks[q, 2], chunks[q, 3]
     xa, ya, za = P[0, a0:a0 + count], P[1, a0:a0 + count], P[2, a0:a0 + count]
@@ -300,8 +307,8 @@ def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, n, width, block):
     if left:
         for t in range(count):
             _crushed_pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, alpha_t,
-                          alpha_t != 0.0, _particle(a0 + t, n, width, block),
-                          _particle(b0 + t, n, width, block))
+                          alpha_t != 0.0, _particle(a0 + t, nx, width, block),
+                          _particle(b0 + t, nx, width, block))
 
 
 @kernel(inline="always")
@@ -339,7 +346,7 @@ def _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t):
 
 @kernel(_nrt=False)
 def sweep_grid_colors(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks, slot_edge,
-                      edge_slot, rest, alive_seen, slot_alive, lam, n, width, block, alpha_t,
+                      edge_slot, rest, alive_seen, slot_alive, lam, nx, width, block, alpha_t,
                       iterations):
     """`iterations` passes of coloured Gauss-Seidel over the grid, one thread, skipping torn
     constraints (alive[e] == 0). `lam` and `slot_alive` are scratch in slot order; XPBD's λ
@@ -348,14 +355,14 @@ def sweep_grid_colors(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks
     for _ in range(iterations):
         for c in range(NUM_COLORS):
             for q in range(color_chunks[c], color_chunks[c + 1]):
-                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, n, width,
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, nx, width,
                                block)
     _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
 
 
 @kernel(parallel=True, _nrt=False)
 def sweep_grid_colors_parallel(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks,
-                               slot_edge, edge_slot, rest, alive_seen, slot_alive, lam, n,
+                               slot_edge, edge_slot, rest, alive_seen, slot_alive, lam, nx,
                                width, block, alpha_t, iterations):
     """The same sweeps with each colour's chunks split across threads (a barrier per
     colour)."""
@@ -363,7 +370,7 @@ def sweep_grid_colors_parallel(x, alive, lambdas, P, W, grid_offset, chunks, col
     for _ in range(iterations):
         for c in range(NUM_COLORS):
             for q in prange(color_chunks[c], color_chunks[c + 1]):
-                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, n, width,
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, nx, width,
                                block)
     _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
 
@@ -374,5 +381,5 @@ def sweep(kernel_fn, plan: SweepPlan, scratch: SweepScratch, x, alive, lambdas, 
     (`plan.scratch()`, kept from call to call)."""
     kernel_fn(x, alive, lambdas, plan.positions, plan.inv_mass, plan.grid_offset, plan.chunks,
               plan.color_chunks, plan.slot_edge, plan.edge_slot, plan.rest, scratch.alive_seen,
-              scratch.slot_alive, scratch.lam, plan.n, plan.width, plan.block, alpha_t,
+              scratch.slot_alive, scratch.lam, plan.nx, plan.width, plan.block, alpha_t,
               iterations)

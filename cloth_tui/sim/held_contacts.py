@@ -98,7 +98,7 @@ def _held_positions(scene: Scene, model: ClothModel) -> list[np.ndarray]:
     places = [hard_anchors(model, float(t)) for t in times]
     if not b.wave or b.wave_amplitude == 0.0:
         return places
-    driven = np.isin(model.pinned, wave_rows(model.n)[0])
+    driven = np.isin(model.pinned, wave_rows(model.nx, model.nz)[0])
     out = []
     for anchors in places:
         for dy in np.linspace(-b.wave_amplitude, b.wave_amplitude, WAVE_SAMPLES):

@@ -21,13 +21,14 @@ RAIN_REACH = 3     # grid spacings: farthest neighbour a drop moves (w(3) ≈ 2 
 
 
 @kernel()
-def apply_raindrop(x, v, inv_mass, n, particle, depth, inv_dt, inv_r2, reach):
-    """Displace `particle` down by `depth` and its neighbours less, with matching velocity."""
-    i0 = particle // n
-    j0 = particle % n
-    for i in range(max(0, i0 - reach), min(n, i0 + reach + 1)):
-        for j in range(max(0, j0 - reach), min(n, j0 + reach + 1)):
-            p = i * n + j
+def apply_raindrop(x, v, inv_mass, nx, nz, particle, depth, inv_dt, inv_r2, reach):
+    """Displace `particle` of the nz-row, nx-column grid down by `depth` and its neighbours
+    less, with matching velocity."""
+    i0 = particle // nx
+    j0 = particle % nx
+    for i in range(max(0, i0 - reach), min(nz, i0 + reach + 1)):
+        for j in range(max(0, j0 - reach), min(nx, j0 + reach + 1)):
+            p = i * nx + j
             if inv_mass[p] == 0.0:
                 continue
             dy = -depth * np.exp(-((i - i0) ** 2 + (j - j0) ** 2) * inv_r2)
@@ -39,7 +40,7 @@ class Rain:
     name = "rain"
 
     def __init__(self, model, strength: float, rate: float, seed: int):
-        self.n, self.inv_mass = model.n, model.inv_mass
+        self.nx, self.nz, self.inv_mass = model.nx, model.nz, model.inv_mass
         self.strength, self.rate, self.seed = strength, rate, seed
         self.drops = 0  # struck so far (for tests and stats)
 
@@ -48,12 +49,12 @@ class Rain:
         frame = int(round(t / frame_dt))
         rng = np.random.default_rng([self.seed, frame])
         k = rng.poisson(self.rate * frame_dt)
-        return rng.integers(0, self.n * self.n, size=k)
+        return rng.integers(0, self.nx * self.nz, size=k)
 
     def apply(self, state, frame_dt):
         struck = self.strikes(state.t, frame_dt)
         for p in struck:
-            apply_raindrop(state.x, state.v, self.inv_mass, self.n, int(p), self.strength,
+            apply_raindrop(state.x, state.v, self.inv_mass, self.nx, self.nz, int(p), self.strength,
                            1.0 / frame_dt, 1.0 / RAIN_RADIUS ** 2, RAIN_REACH)
         self.drops += len(struck)
 

@@ -1,8 +1,9 @@
 """ClothModel: what does not change while a sheet simulates.
 
 Grid topology, rest lengths, constraint families, a conflict-free colouring for Gauss-Seidel
-projection, pins and masses. Particle (row i, column j) has index i*n + j; the sheet lies in the
-x-z plane at height `cloth.height`, centred on the y axis, x growing with j and z with i.
+projection, pins and masses. The sheet is nz rows of nx particles: particle (row i, column j)
+has index i*nx + j; it lies in the x-z plane at height `cloth.height`, centred on the y axis,
+x growing with j (width along x) and z with i (length along z).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .forces import wave_rows
 from .grid_sweeps import grid_colors
 from .pins import PinLayout, layout
 
@@ -20,8 +22,10 @@ STRUCTURAL, SHEAR, BENDING = 0, 1, 2
 
 @dataclass(frozen=True)
 class ClothModel:
-    n: int                      # particles per side
-    size: float                 # m
+    nx: int                     # particles along x: the columns, the length of a row
+    nz: int                     # particles along z: the rows
+    width: float                # m, along x
+    length: float               # m, along z
     rest_positions: np.ndarray  # (N, 3) float64, the flat start
     mass: np.ndarray            # (N,) kg per particle
     inv_mass: np.ndarray        # (N,) 1/kg, 0 for pinned particles
@@ -37,20 +41,42 @@ class ClothModel:
 
     @property
     def num_particles(self) -> int:
-        return self.n * self.n
+        return self.nx * self.nz
 
     @property
     def num_constraints(self) -> int:
         return len(self.edges)
 
     @property
+    def shape(self) -> tuple[int, int]:
+        """(nz, nx): positions reshape to shape + (3,), rows first."""
+        return self.nz, self.nx
+
+    @property
+    def spacing_x(self) -> float:
+        return self.width / (self.nx - 1)
+
+    @property
+    def spacing_z(self) -> float:
+        return self.length / (self.nz - 1)
+
+    @property
     def spacing(self) -> float:
-        return self.size / (self.n - 1)
+        """The finer of the two grid spacings (m): the scale below which particles are
+        neighbours, for collision distances and the render's cell size."""
+        return min(self.spacing_x, self.spacing_z)
+
+    @property
+    def extent(self) -> float:
+        """The longer side (m)."""
+        return max(self.width, self.length)
 
 
-def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
-    """Constraint pairs of an n×n grid for the enabled families, and each pair's family."""
-    idx = np.arange(n * n).reshape(n, n)
+def grid_edges(nx: int, nz: int,
+               families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
+    """Constraint pairs of an nz-row, nx-column grid for the enabled families, and each pair's
+    family."""
+    idx = np.arange(nx * nz).reshape(nz, nx)
     pairs, fam = [], []
 
     def add(a: np.ndarray, b: np.ndarray, f: int) -> None:
@@ -71,11 +97,13 @@ def grid_edges(n: int, families: tuple[bool, bool, bool]) -> tuple[np.ndarray, n
     return np.concatenate(pairs).astype(np.int64), np.concatenate(fam)
 
 
-def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> np.ndarray:
-    """The pinned particles of each mode. Edges are rows/columns of the grid:
-    one_edge = row 0 (the far edge, z = −size/2); two_edges = rows 0 and n−1;
-    four_edges = the whole border; random = `fraction` of all particles, chosen by `seed`."""
-    idx = np.arange(n * n).reshape(n, n)
+def pinned_indices(nx: int, nz: int, mode: str, seed: int = 0,
+                   fraction: float = 0.05) -> np.ndarray:
+    """The pinned particles of each mode on an nz-row, nx-column grid. Edges are rows or
+    columns: one_edge = row 0 (the far edge, z = −length/2, nx particles); two_edges = rows 0
+    and nz−1; four_edges = the whole border; random = `fraction` of all particles, chosen by
+    `seed`."""
+    idx = np.arange(nx * nz).reshape(nz, nx)
     if mode == "none":
         sel = np.zeros(0, np.int64)
     elif mode == "corners":
@@ -88,15 +116,15 @@ def pinned_indices(n: int, mode: str, seed: int = 0, fraction: float = 0.05) -> 
         sel = np.concatenate([idx[0, :], idx[-1, :], idx[1:-1, 0], idx[1:-1, -1]])
     elif mode == "random":
         rng = np.random.default_rng(seed)
-        count = int(round(fraction * n * n))
-        sel = rng.choice(n * n, size=count, replace=False) if count else np.zeros(0, np.int64)
+        count = int(round(fraction * nx * nz))
+        sel = rng.choice(nx * nz, size=count, replace=False) if count else np.zeros(0, np.int64)
     else:
         raise ValueError(f"unknown pin mode {mode!r}")
     return np.unique(np.asarray(sel, dtype=np.int64))
 
 
-def grid_triangles(n: int) -> np.ndarray:
-    idx = np.arange(n * n).reshape(n, n)
+def grid_triangles(nx: int, nz: int) -> np.ndarray:
+    idx = np.arange(nx * nz).reshape(nz, nx)
     a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
     # One diagonal, (i, j+1)–(i+1, j), in every cell (alternating would change images and wind)
     t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
@@ -140,46 +168,48 @@ def uses_tethers(behavior) -> bool:
             and (behavior.structural or behavior.shear or behavior.bending))
 
 
-def particle_masses(n: int, total: float, mass_model: str = "area") -> np.ndarray:
-    """Lumped masses of an n×n grid summing to `total`. "area": each particle carries the
-    area of its dual cell (interior 1, edge ½, corner ¼ of a cell), so a uniform load such as
-    wind accelerates every part of the sheet alike; "uniform": the original's equal masses."""
+def particle_masses(nx: int, nz: int, total: float, mass_model: str = "area") -> np.ndarray:
+    """Lumped masses of an nz-row, nx-column grid summing to `total`. "area": each particle
+    carries the area of its dual cell (interior 1, edge ½, corner ¼ of a cell; all cells are
+    alike), so a uniform load such as wind accelerates every part of the sheet alike;
+    "uniform": the original's equal masses."""
     if mass_model == "uniform":
-        return np.full(n * n, total / (n * n))
+        return np.full(nx * nz, total / (nx * nz))
     if mass_model != "area":
         raise ValueError(f"unknown mass model {mass_model!r}")
-    share = np.ones(n)
-    share[[0, -1]] = 0.5  # a border row or column has half a cell on its outer side
-    cell = total / ((n - 1) * (n - 1))  # the (n−1)² cells cover the sheet
-    return (cell * np.outer(share, share)).ravel()
+    row_share, col_share = np.ones(nz), np.ones(nx)
+    row_share[[0, -1]] = 0.5  # a border row or column has half a cell on its outer side
+    col_share[[0, -1]] = 0.5
+    cell = total / ((nz - 1) * (nx - 1))  # the (nz−1)(nx−1) cells cover the sheet
+    return (cell * np.outer(row_share, col_share)).ravel()
 
 
 def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
     """Build the model from the scene's [cloth] and [behavior] sections and its [[pins]]."""
-    n, size = cloth.resolution, cloth.size
-    u = np.linspace(-size / 2, size / 2, n)
-    zz, xx = np.meshgrid(u, u, indexing="ij")
-    rest = np.stack([xx.ravel(), np.full(n * n, cloth.height), zz.ravel()], axis=1)
+    nx, nz = cloth.grid_shape()
+    width, length = cloth.dimensions()
+    zz, xx = np.meshgrid(np.linspace(-length / 2, length / 2, nz),
+                         np.linspace(-width / 2, width / 2, nx), indexing="ij")
+    rest = np.stack([xx.ravel(), np.full(nx * nz, cloth.height), zz.ravel()], axis=1)
 
     families = (behavior.structural, behavior.shear, behavior.bending)
-    edges, family = grid_edges(n, families)
-    colors = grid_colors(edges, n)
+    edges, family = grid_edges(nx, nz, families)
+    colors = grid_colors(edges, nx)
     order = np.argsort(colors, kind="stable")
     edges, family, colors = edges[order], family[order], colors[order]
     counts = np.bincount(colors, minlength=12) if len(colors) else np.zeros(0, np.int64)
     offsets = np.concatenate([[0], np.cumsum(counts[counts > 0])]).astype(np.int64)
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
-    pins = pinned_indices(n, cloth.pinned, behavior.seed, cloth.pin_fraction)
+    pins = pinned_indices(nx, nz, cloth.pinned, behavior.seed, cloth.pin_fraction)
     held = [(f"cloth.pinned = \"{cloth.pinned}\"", pins)]
     if behavior.wave:
-        # The wave drives the near edge (row n−1) and holds the far edge (row 0): both pinned.
-        wave_edges = np.concatenate([np.arange(n), np.arange(n * (n - 1), n * n)])
-        held.append(("behavior.wave", wave_edges))
-    pins, pin_layout = layout(held, list(pin_groups), rest, n, n)
+        # The wave drives the near edge (row nz−1) and holds the far edge (row 0): both pinned.
+        held.append(("behavior.wave", np.concatenate(wave_rows(nx, nz))))
+    pins, pin_layout = layout(held, list(pin_groups), rest, nz, nx)
     if not pin_groups:
         pin_layout = None  # every pin held in place: the model's `pinned` says it all
-    mass = particle_masses(n, cloth.mass, cloth.mass_model)
+    mass = particle_masses(nx, nz, cloth.mass, cloth.mass_model)
     inv_mass = 1.0 / mass
     inv_mass[pins] = 0.0
     tether_pin = tether_length = None
@@ -190,8 +220,8 @@ def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
         tether_pin[pins] = -1
     for arr in (rest, mass, inv_mass, pins, edges, rest_length, family, offsets):
         arr.setflags(write=False)
-    return ClothModel(n=n, size=size, rest_positions=rest, mass=mass, inv_mass=inv_mass,
+    return ClothModel(nx=nx, nz=nz, width=width, length=length, rest_positions=rest, mass=mass, inv_mass=inv_mass,
                       pinned=pins, edges=np.ascontiguousarray(edges), rest_length=rest_length,
-                      family=family, color_offsets=offsets, triangles=grid_triangles(n),
+                      family=family, color_offsets=offsets, triangles=grid_triangles(nx, nz),
                       tether_pin=tether_pin, tether_length=tether_length,
                       pin_layout=pin_layout)

@@ -26,7 +26,7 @@ EXACT = PinGroup(at=[[0, 0]])  # how cloth.pinned and the wave hold: in place, e
 
 def grid_shape(model) -> tuple[int, int]:
     """(rows, cols) of the model's particle grid; particle (row, col) is row*cols + col."""
-    return model.n, model.n
+    return model.shape
 
 
 @dataclass(frozen=True)

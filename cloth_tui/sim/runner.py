@@ -188,7 +188,7 @@ class Simulation:
         m, st, sc = self.model, self.state, self.scene
         internal = kinetic_energy(m, st) + elastic_energy(m, st, sc)
         g = sc.forces.gravity_strength if sc.forces.gravity else 0.0
-        scale = float(m.mass.sum()) * g * m.size + internal + 1e-12
+        scale = float(m.mass.sum()) * g * m.extent + internal + 1e-12
         return internal + gravitational_energy(m, st, sc), scale
 
     def _finite(self) -> bool:
@@ -252,13 +252,13 @@ class Simulation:
     def bump(self, particle: int, displacement, radius: float = 1.5) -> None:
         """Push one particle, and its grid neighbours less (Gaussian falloff of `radius`
         spacings), giving them the velocity of moving that far in one frame."""
-        m, n = self.model, self.model.n
+        m = self.model
         d = np.asarray(displacement, dtype=np.float64)
-        i0, j0 = divmod(int(particle), n)
+        i0, j0 = divmod(int(particle), m.nx)
         r = int(np.ceil(2 * radius))
-        ii, jj = np.meshgrid(np.arange(max(0, i0 - r), min(n, i0 + r + 1)),
-                             np.arange(max(0, j0 - r), min(n, j0 + r + 1)), indexing="ij")
-        idx = (ii * n + jj).ravel()
+        ii, jj = np.meshgrid(np.arange(max(0, i0 - r), min(m.nz, i0 + r + 1)),
+                             np.arange(max(0, j0 - r), min(m.nx, j0 + r + 1)), indexing="ij")
+        idx = (ii * m.nx + jj).ravel()
         w = np.exp(-((ii - i0) ** 2 + (jj - j0) ** 2).ravel() / (radius * radius))
         w[m.inv_mass[idx] == 0.0] = 0.0
         self.state.x[idx] += w[:, None] * d

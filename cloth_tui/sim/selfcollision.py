@@ -40,12 +40,12 @@ STENCIL = ((0, 1), (1, 0), (1, 1), (1, -1), (0, 2), (2, 0))
 def stencil_constraints(model) -> np.ndarray:
     """(N, 6) int64: the constraint (index into model.edges) joining particle p to p + each
     STENCIL offset, −1 where there is none (off the grid, or its family switched off)."""
-    n, num = model.n, model.num_particles
+    nx, num = model.nx, model.num_particles
     out = np.full((num, len(STENCIL)), -1, np.int64)
     if not model.num_constraints:
         return out
     lo, hi = model.edges.min(axis=1), model.edges.max(axis=1)
-    di, dj = hi // n - lo // n, hi % n - lo % n
+    di, dj = hi // nx - lo // nx, hi % nx - lo % nx
     for k, (a, b) in enumerate(STENCIL):
         mine = (di == a) & (dj == b)
         out[lo[mine], k] = np.flatnonzero(mine)
@@ -53,11 +53,11 @@ def stencil_constraints(model) -> np.ndarray:
 
 
 @kernel(inline="always")
-def _governed(a, b, n, stencil, alive):
-    """Whether particles a < b are a constraint-stencil pair of the n×n grid whose constraint,
-    if it has one, is intact."""
-    di = b // n - a // n
-    dj = b % n - a % n
+def _governed(a, b, nx, stencil, alive):
+    """Whether particles a < b are a constraint-stencil pair of the grid (rows nx particles
+    long) whose constraint, if it has one, is intact."""
+    di = b // nx - a // nx
+    dj = b % nx - a % nx
     if di == 0 and dj == 1:
         k = 0
     elif di == 1 and dj == 0:
@@ -77,7 +77,7 @@ def _governed(a, b, n, stencil, alive):
 
 
 @kernel()
-def find_pairs_naive(x, n, stencil, alive, dist, pairs):
+def find_pairs_naive(x, nx, stencil, alive, dist, pairs):
     """All pairs (i < j) closer than `dist` that no intact constraint governs, written to
     `pairs`. Returns how many there are; if that exceeds len(pairs) only the first len(pairs)
     were written."""
@@ -89,7 +89,7 @@ def find_pairs_naive(x, n, stencil, alive, dist, pairs):
             dx = x[j, 0] - x[i, 0]
             dy = x[j, 1] - x[i, 1]
             dz = x[j, 2] - x[i, 2]
-            if dx * dx + dy * dy + dz * dz < d2max and not _governed(i, j, n, stencil, alive):
+            if dx * dx + dy * dy + dz * dz < d2max and not _governed(i, j, nx, stencil, alive):
                 if count < cap:
                     pairs[count, 0] = i
                     pairs[count, 1] = j
@@ -148,7 +148,7 @@ def build_hash(x, inv_cell, mask, stride_z, stride_y, cell_start, cell_particles
 
 
 @kernel()
-def find_pairs_hash(x, n, stencil, alive, dist, inv_cell, mask, stride_z, stride_y, cell_start,
+def find_pairs_hash(x, nx, stencil, alive, dist, inv_cell, mask, stride_z, stride_y, cell_start,
                     cell_particles, sorted_key, sorted_x, pairs):
     """The same pairs as find_pairs_naive (order aside), in O(N): build the hash (cell size
     1/inv_cell must be ≥ 2·dist), then look only at the 8 cells nearest each particle.
@@ -196,7 +196,7 @@ def find_pairs_hash(x, n, stencil, alive, dist, inv_cell, mask, stride_z, stride
                         ey = x[j, 1] - py
                         ez = x[j, 2] - pz
                         if (ex * ex + ey * ey + ez * ez < d2max
-                                and not _governed(i, j, n, stencil, alive)):
+                                and not _governed(i, j, nx, stencil, alive)):
                             if count < cap:
                                 pairs[count, 0] = i
                                 pairs[count, 1] = j
@@ -231,6 +231,17 @@ def resolve_pairs(x, inv_mass, pairs, count, dist):
         x[b, 2] += wb * s * dz
 
 
+def hash_stride(table: int, cells_x: float, cells_z: float) -> int:
+    """_bucket's stride between rows of cells, for a flat sheet `cells_x` × `cells_z` cells
+    wide, chosen so that its cells get distinct buckets: about √table apart (a square sheet's
+    rows fit side by side), or, where the sheet's rows are longer than that (a wide strip) or
+    more (a long one, whose rows would wrap round the table onto each other), its own row of
+    cells, the rows packed one after another. Odd, so that rows do not repeat a pattern."""
+    row, rows = math.ceil(cells_x) + 1, math.ceil(cells_z) + 1  # a flat sheet's cells
+    stride = max(math.isqrt(table), row)
+    return (stride if stride * rows <= table else row) | 1
+
+
 class SelfCollision:
     """The self-collision effect; `method` is "naive" or "hash". Buffers are allocated once
     (the pair buffer grows, rarely, when a substep finds more pairs than it holds)."""
@@ -238,7 +249,7 @@ class SelfCollision:
     def __init__(self, model, method: str, fraction: float = COLLISION_FRACTION):
         self.name = f"self_collision_{method}"
         self.method = method
-        self.n = model.n
+        self.nx = model.nx
         self.stencil = stencil_constraints(model)
         self.intact = np.ones(model.num_constraints, np.uint8)
         self.inv_mass = model.inv_mass
@@ -247,7 +258,8 @@ class SelfCollision:
         num = model.num_particles
         table = 1 << max(4, int(num - 1).bit_length())  # power of two ≥ N
         self.mask = table - 1
-        self.stride_z = math.isqrt(table) | 1  # a flat sheet's cells get distinct buckets
+        self.stride_z = hash_stride(table, model.width * self.inv_cell,
+                                    model.length * self.inv_cell)
         self.stride_y = self.stride_z + 2
         self.cell_start = np.zeros(table + 1, np.int32)  # int32: half the cache traffic
         self.cell_particles = np.zeros(num, np.int32)
@@ -262,10 +274,10 @@ class SelfCollision:
         alive = self.intact if alive is None else alive
         while True:
             if self.method == "naive":
-                count = find_pairs_naive(x, self.n, self.stencil, alive, self.distance,
+                count = find_pairs_naive(x, self.nx, self.stencil, alive, self.distance,
                                          self.pairs)
             else:
-                count = find_pairs_hash(x, self.n, self.stencil, alive, self.distance,
+                count = find_pairs_hash(x, self.nx, self.stencil, alive, self.distance,
                                         self.inv_cell, self.mask, self.stride_z, self.stride_y,
                                         self.cell_start, self.cell_particles,
                                         self.sorted_key, self.sorted_x, self.pairs)

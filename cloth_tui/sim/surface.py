@@ -54,23 +54,30 @@ def vertex_normals(points: np.ndarray, triangles: np.ndarray,
 
 
 def thinned_rows(n: int, stride: int) -> np.ndarray:
-    """Every `stride`-th row (or column) of an n×n grid, the last one always included."""
+    """Every `stride`-th of n rows (or columns) of a grid, the last one always included."""
     return np.unique(np.r_[np.arange(0, n, max(1, int(stride))), n - 1]).astype(np.int64)
 
 
-def grid_cell_triangles(n: int, rows: np.ndarray) -> np.ndarray:
-    """Two triangles per cell of the sub-grid `rows` × `rows` of an n-wide particle grid, as
+def grid_cell_triangles(nx: int, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Two triangles per cell of the sub-grid `rows` × `cols` of a particle grid nx wide, as
     particle indices, in the model's pattern and winding (model.grid_triangles is the case
-    rows = 0..n-1), so normals point the same way at any thinning."""
-    idx = rows[:, None] * n + rows[None, :]
+    rows = 0..nz−1, cols = 0..nx−1), so normals point the same way at any thinning."""
+    idx = rows[:, None] * nx + cols[None, :]
     a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
     t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
     t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
     return np.concatenate([t1, t2]).astype(np.int64)
 
 
-def grid_uv(n: int) -> np.ndarray:
-    """Texture coordinates of the n×n particle grid: the whole image once across the sheet."""
-    u = np.linspace(0.0, 1.0, n)
-    vv, uu = np.meshgrid(u, u, indexing="ij")
+def grid_uv(nx: int, nz: int, width: float, length: float) -> np.ndarray:
+    """Texture coordinates of the nz-row, nx-column particle grid of a width × length sheet.
+    The image spans the longer side once and keeps its proportions: the shorter side shows
+    the middle part of the image (a 2:1 sheet the middle half), rather than the whole image
+    squashed, and needs no texture wrapping, which renderers and USD readers do not agree
+    on. A square shows the whole image once."""
+    long_side = max(width, length)
+    u_span, v_span = width / long_side, length / long_side
+    u = (0.5 - u_span / 2) + u_span * np.linspace(0.0, 1.0, nx)
+    v = (0.5 - v_span / 2) + v_span * np.linspace(0.0, 1.0, nz)
+    vv, uu = np.meshgrid(v, u, indexing="ij")
     return np.stack([uu.ravel(), 1.0 - vv.ravel()], axis=1)

@@ -60,17 +60,18 @@ def _side(ax, ay, bx, by, px, py) -> float:
 
 
 @kernel()
-def cut_constraints(edges, n, alive, i0, j0, i1, j1) -> int:
-    """alive[e] = 0 for every intact constraint whose segment in grid coordinates (i, j)
-    properly crosses the cut (i0, j0)–(i1, j1); returns how many were cut."""
+def cut_constraints(edges, nx, alive, i0, j0, i1, j1) -> int:
+    """alive[e] = 0 for every intact constraint whose segment in grid coordinates (i, j) of
+    a grid nx particles wide properly crosses the cut (i0, j0)–(i1, j1); returns how many
+    were cut."""
     cut = 0
     for e in range(edges.shape[0]):
         if not alive[e]:
             continue
         a = edges[e, 0]
         b = edges[e, 1]
-        ai, aj = float(a // n), float(a % n)
-        bi, bj = float(b // n), float(b % n)
+        ai, aj = float(a // nx), float(a % nx)
+        bi, bj = float(b // nx), float(b % nx)
         if (_side(i0, j0, i1, j1, ai, aj) * _side(i0, j0, i1, j1, bi, bj) < 0.0
                 and _side(ai, aj, bi, bj, i0, j0) * _side(ai, aj, bi, bj, i1, j1) < 0.0):
             alive[e] = 0
@@ -81,8 +82,8 @@ def cut_constraints(edges, n, alive, i0, j0, i1, j1) -> int:
 def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
     """Cut the sheet along the material path from particle p0 to particle p1; returns the
     constraints cut. The same particle twice cuts nothing."""
-    n = model.n
-    (i0, j0), (i1, j1) = divmod(int(p0), n), divmod(int(p1), n)
+    nx = model.nx
+    (i0, j0), (i1, j1) = divmod(int(p0), nx), divmod(int(p1), nx)
     di, dj = float(i1 - i0), float(j1 - j0)
     length = math.hypot(di, dj)
     if length == 0.0 or not model.num_constraints:
@@ -91,7 +92,7 @@ def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
     # border particle reaches the border.
     ext = 0.5 / length
     oi, oj = CUT_OFFSET
-    count = int(cut_constraints(model.edges, n, state.alive,
+    count = int(cut_constraints(model.edges, nx, state.alive,
                                 i0 + oi - ext * di, j0 + oj - ext * dj,
                                 i1 + oi + ext * di, j1 + oj + ext * dj))
     state.torn += count

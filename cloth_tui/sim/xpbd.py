@@ -90,8 +90,8 @@ class ProjectConstraints:
         self.iterations = iterations
         self.alpha_t = compliance / (h * h)
         self.lambdas = np.zeros(model.num_constraints)
-        self._plan = plan_sweeps(model.n, model.edges, model.color_offsets, model.rest_length,
-                                 model.inv_mass)
+        self._plan = plan_sweeps(model.nx, model.nz, model.edges, model.color_offsets,
+                                 model.rest_length, model.inv_mass)
         self._scratch = self._plan.scratch()
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(

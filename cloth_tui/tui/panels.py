@@ -20,7 +20,7 @@ from textual.message import Message
 from textual.widget import Widget
 from textual.widgets import Button, Collapsible, Input, Label, Select, Static, Switch
 
-from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec
+from ..scene import OBJECT_TYPES, SECTION_TYPES, Scene, SceneObject, key_spec, value_type
 
 TOP_KEYS = ("cloth.size", "cloth.resolution", "appearance.wireframe", "appearance.auto_rotate")
 GROUPS = ("Forces", "Scene", "Behavior", "Appearance")
@@ -68,7 +68,7 @@ def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) ->
     field's declaration, for keys outside the scene's sections (an object's)."""
     f = spec or key_spec(dotted)
     kind = f.metadata["kind"]
-    t = f.type if isinstance(f.type, str) else f.type.__name__
+    t = value_type(f)
     text = text.strip()
     if kind == "toml":  # a pin group's rows, cols, at, keys: "0, -1" or "[[0, 0], [0, 5]]"
         try:
@@ -81,6 +81,16 @@ def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) ->
             return [float(p) for p in parts]
         except ValueError:
             return text
+    if f.metadata.get("pair"):  # "2, 0.5" (or "[2, 0.5]") is the list form, "2" one number
+        parts = [p for p in re.split(r"[,\s]+", text.strip("[]() ")) if p]
+        if len(parts) > 1:
+            values = [_number_text(p, t) for p in parts]
+            return text if any(isinstance(v, str) for v in values) else values
+    return _number_text(text, t)
+
+
+def _number_text(text: str, t: str) -> Any:
+    """One number of type `t` read from text, or the text itself when it is none."""
     if t == "int":
         try:
             return int(text)  # exact: a float would turn 2**63 - 1 into 2**63

@@ -68,7 +68,7 @@ class ViewActions:
     def _place_crosshair(self) -> bool:
         """Put the crosshair on the particle nearest the middle of the sheet, by picking a
         coarse grid of image points (pick is cheap). False if no particle is visible yet."""
-        n = self.scene.cloth.resolution
+        nx, nz = self.scene.cloth.grid_shape()
         best, best_d = None, None
         for i in range(1, 24):
             for j in range(1, 24):
@@ -76,7 +76,7 @@ class ViewActions:
                 p = self.renderer.pick(*uv)
                 if p is None:
                     continue
-                d = abs(p // n - (n - 1) / 2) + abs(p % n - (n - 1) / 2)
+                d = abs(p // nx - (nz - 1) / 2) + abs(p % nx - (nx - 1) / 2)
                 if best_d is None or d < best_d:
                     best, best_d = uv, d
         if best is None:
@@ -98,7 +98,7 @@ class ViewActions:
         if self.renderer is not None:
             d = self.renderer.screen_delta_to_world(self._grabbed, message.du, message.dv)
         if d is None:
-            span = VIEW_SPAN * self.scene.cloth.size / self._zoom
+            span = VIEW_SPAN * self.scene.cloth.extent() / self._zoom
             aspect = message.width_px / max(message.height_px, 1)
             d = (message.du * span * aspect, -message.dv * span, 0.0)
         self._bump(self._grabbed, d)

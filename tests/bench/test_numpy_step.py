@@ -11,10 +11,12 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.state import ClothState
 
 
-def run_both(n: int, substeps: int, max_speed: float = 50.0):
-    """The compiled and the NumPy bare step side by side from the same start; returns both
-    final states and the largest speed any free particle reached along the way."""
+def run_both(n, substeps: int, max_speed: float = 50.0, size=1.0):
+    """The compiled and the NumPy bare step side by side from the same start (n particles a
+    side, or [nx, nz]); returns both final states and the largest speed any free particle
+    reached along the way."""
     scene = bare_scene(n, iterations=3)
+    scene.cloth.size = size
     scene.behavior.max_speed = max_speed
     model = build_model(scene.cloth, scene.behavior)
     step = pipeline.build(scene, model)
@@ -33,6 +35,13 @@ def run_both(n: int, substeps: int, max_speed: float = 50.0):
 def test_numpy_baseline_matches_compiled_step(n):
     a, b, top_speed = run_both(n, 50)
     assert top_speed < 50.0  # the ordinary case: the clamp is not reached
+    np.testing.assert_allclose(b.x, a.x, atol=1e-9)
+    np.testing.assert_allclose(b.v, a.v, atol=1e-6)
+
+
+@pytest.mark.parametrize("shape, size", [([13, 6], [1.2, 0.5]), ([6, 13], 1.0)])
+def test_numpy_baseline_matches_compiled_step_on_a_rectangle(shape, size):
+    a, b, _ = run_both(shape, 50, size=size)
     np.testing.assert_allclose(b.x, a.x, atol=1e-9)
     np.testing.assert_allclose(b.v, a.v, atol=1e-6)
 

@@ -58,3 +58,42 @@ def test_the_snapshot_is_the_bakes_frame(bake):
     np.testing.assert_array_equal(snap.positions, bake.positions(7))
     assert snap.objects == bake.objects(7) and len(snap.objects) == 1
     assert snap.model.num_particles == len(snap.positions)
+
+
+def test_a_rectangular_bake_replays_its_grid(tmp_path):
+    out = tmp_path / "r.usda"
+    assert main(["bake", "default", "-o", str(out), "--frames", "3", "--set",
+                 "cloth.size=[2, 0.5]", "--set", "cloth.resolution=[9, 4]"]) == 0
+    bake = UsdBake(out)
+    assert bake.grid == (9, 4)
+    snap = BakePlayer(bake, bake.scene).snapshot()
+    assert (snap.model.nx, snap.model.nz) == (9, 4)
+
+
+def test_a_grid_that_is_not_the_scenes_is_refused(tmp_path):
+    # Points of a 9 × 4 sheet with a scene that makes 4 × 9: the same count, another grid.
+    from cloth_tui.usage import UsageError
+
+    out = tmp_path / "r.usda"
+    assert main(["bake", "default", "-o", str(out), "--frames", "2", "--set",
+                 "cloth.size=[2, 0.5]", "--set", "cloth.resolution=[9, 4]"]) == 0
+    bake = UsdBake(out)
+    turned = bake.scene.with_values({"cloth.size": [0.5, 2.0], "cloth.resolution": [4, 9]})
+    with pytest.raises(UsageError, match="9 × 4"):
+        BakePlayer(bake, turned)
+
+
+def test_a_bake_without_a_grid_replays_as_the_square_it_is(tmp_path):
+    # Bakes made before rectangular sheets have no cloth_tui:grid: their scene decides.
+    from pxr import Usd
+
+    out = tmp_path / "old.usda"
+    assert main(["bake", "default", "-o", str(out), "--frames", "2", "--set",
+                 "cloth.resolution=6"]) == 0
+    stage = Usd.Stage.Open(str(out))
+    assert stage.GetPrimAtPath("/World/Cloth").RemoveProperty("cloth_tui:grid")
+    stage.GetRootLayer().Save()
+    bake = UsdBake(out)
+    assert bake.grid is None
+    snap = BakePlayer(bake, bake.scene).snapshot()
+    assert (snap.model.nx, snap.model.nz) == (6, 6) and len(snap.positions) == 36

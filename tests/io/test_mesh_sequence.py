@@ -32,3 +32,19 @@ def test_ten_frames_read_back_as_the_simulation(tmp_path, suffix):
         assert mesh.n_cells == 2 * 7 ** 2
         np.testing.assert_allclose(np.asarray(mesh.points), x, atol=1e-6)
     assert not np.allclose(xs[0], xs[-1])
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".ply"])
+def test_a_rectangle_bakes_with_its_faces_and_proportional_uvs(tmp_path, suffix):
+    import pyvista as pv
+
+    sets = ["cloth.size=[2, 0.5]", "cloth.resolution=[17, 5]"]
+    assert main(["bake", "default", "-o", str(tmp_path / f"r_####{suffix}"), "--frames", "2",
+                 *[a for s in sets for a in ("--set", s)]]) == 0
+    xs, _ = simulated_frames("default", sets, 2)
+    mesh = pv.read(tmp_path / f"r_0002{suffix}")
+    assert mesh.n_cells == 2 * 16 * 4
+    np.testing.assert_allclose(np.asarray(mesh.points), xs[-1], atol=1e-6)
+    uv = np.asarray(mesh.active_texture_coordinates).reshape(5, 17, 2)
+    np.testing.assert_allclose(uv[0, [0, -1], 0], [0.0, 1.0], atol=1e-6)
+    np.testing.assert_allclose(uv[[0, -1], 0, 1], [0.625, 0.375], atol=1e-6)  # a quarter

@@ -204,3 +204,28 @@ def test_saves_thin_out_when_they_grow_slow(tmp_path, monkeypatch):
     assert saves[0] == 1.0  # the first after SAVE_INTERVAL_S
     assert all(b - a >= 2.0 + 2.0 / usd_bake.SAVE_SHARE for a, b in zip(saves, saves[1:]))
     assert len(saves) >= 2
+
+
+RECT = ["cloth.size=[1.5, 0.5]", "cloth.resolution=[31, 11]"]
+
+
+def test_a_3_to_1_bake_reads_back_as_simulate_dump(tmp_path):
+    # The same run two ways: the bake's last frame, read with pxr, is the dump's positions
+    # (to float32), and the bake says its grid is 31 × 11, rows of 31.
+    args = [a for s in RECT for a in ("--set", s)]
+    out, dump = tmp_path / "banner.usdc", tmp_path / "banner.npz"
+    assert main(["bake", "default", "-o", str(out), "--frames", "15", *args]) == 0
+    assert main(["simulate", "default", "--frames", "15", "--dump", str(dump), *args]) == 0
+    d = np.load(dump)
+    assert tuple(d["shape"]) == (11, 31)
+    stage = _open(out)
+    cloth = UsdGeom.Mesh.Get(stage, "/World/Cloth")
+    assert tuple(cloth.GetPrim().GetAttribute("cloth_tui:grid").Get()) == (31, 11)
+    got = np.asarray(cloth.GetPointsAttr().Get(15.0), dtype=np.float64)
+    np.testing.assert_allclose(got, d["positions"], rtol=0, atol=1e-6)
+    grid = got.reshape(11, 31, 3)
+    assert np.ptp(grid[0, :, 0]) > 1.2 and np.ptp(grid[:, 0, 2]) < 0.6  # x along the rows
+    assert list(cloth.GetFaceVertexCountsAttr().Get()) == [3] * (2 * 30 * 10)
+    st = np.asarray(UsdGeom.PrimvarsAPI(cloth).GetPrimvar("st").Get()).reshape(11, 31, 2)
+    np.testing.assert_allclose(st[0, [0, -1], 0], [0.0, 1.0], atol=1e-7)  # u: the width
+    np.testing.assert_allclose(st[[0, -1], 0, 1], [2 / 3, 1 / 3], atol=1e-7)  # v: its third

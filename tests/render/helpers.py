@@ -25,8 +25,8 @@ def draped(scene: Scene, sag: float = 0.25, model=None, frame: int = 1,
     """The sheet sagging between its corners like the default scene after a second."""
     model = model or build_model(scene.cloth, scene.behavior)
     x = np.array(model.rest_positions, dtype=np.float64)
-    half = scene.cloth.size / 2
-    u, w = x[:, 0] / half, x[:, 2] / half
+    width, length = scene.cloth.dimensions()
+    u, w = x[:, 0] / (width / 2), x[:, 2] / (length / 2)
     x[:, 1] -= sag * (1 - u * u * w * w) * (1 - 0.3 * (u * u + w * w))
     return Snapshot(x, frame, frame / 60, {"frames": frame}, model, scene, tuple(objects))
 

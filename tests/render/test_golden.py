@@ -35,6 +35,10 @@ CASES = {
     "constraints_objects": lambda: draped(scene_with(show_constraints=True, wireframe=False,
                                                      cloth_color="#3060c0"),
                                           sag=0.1, objects=OBJECTS),
+    # a 3:1 sheet, 1.5 m × 0.5 m at 31 × 11 particles: its poles at the rectangle's
+    # corners, the maze's square cells square on it (not stretched 3:1), its shadow a strip
+    "banner_3to1": lambda: draped(scene_with(wireframe=False, cloth_texture="maze").with_values(
+        {"cloth.size": [1.5, 0.5], "cloth.resolution": 31}), sag=0.1),
 }
 
 

@@ -107,6 +107,25 @@ def test_cells_smaller_than_a_pixel_are_drawn_thinned_and_look_the_same(renderer
     assert renderer.cloth.n_cells == len(snap.model.triangles)  # the wireframe shows all
 
 
+def test_a_strip_is_thinned_along_its_fine_side_only(renderer, monkeypatch):
+    # 2 m × 0.5 m at 256 × 5: columns 8 mm apart (under a pixel at 160×120), rows 125 mm
+    # apart (several pixels): every row is drawn, and a fraction of the columns.
+    import cloth_tui.render.renderer as renderer_module
+
+    scene = scene_with(wireframe=False).with_values({"cloth.size": [2.0, 0.5],
+                                                     "cloth.resolution": [256, 5]})
+    snap = draped(scene, sag=0.05)
+    thinned = fresh(renderer, snap, size=(160, 120))
+    rows, cols = renderer._detail_stride()
+    assert rows == 1 and cols > 1
+    drawn_cols = len(range(0, 256, cols)) + (255 % cols != 0)
+    assert renderer.cloth.n_cells == 2 * 4 * (drawn_cols - 1)
+    monkeypatch.setattr(renderer_module, "MIN_CELL_PX", 0.0)  # every triangle
+    whole = renderer.render(snap)
+    assert renderer.cloth.n_cells == len(snap.model.triangles)
+    assert np.abs(thinned.astype(int) - whole.astype(int)).mean() < 1.0
+
+
 def test_cells_under_two_pixels_are_drawn_thinned_and_narrow_folds_still_show(renderer,
                                                                              monkeypatch):
     """At 640×384 a 128² sheet's cells are 1.9 px: software GL pays per triangle there, so

@@ -115,7 +115,7 @@ def project(renderer, point):
 def test_pick_returns_the_particle_under_the_pointer(renderer):
     snap = draped(scene_with(wireframe=False), sag=0.02)
     fresh(renderer, snap, (320, 240))
-    n = snap.model.n
+    n = snap.model.nx
     for i, j in ((3, 3), (12, 20), (22, 5), (13, 13)):
         k = i * n + j
         u, v = project(renderer, snap.positions[k])

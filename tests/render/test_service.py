@@ -84,7 +84,7 @@ def test_screen_delta_follows_an_orbited_camera(service):
     particle's picture by exactly (du, dv), whatever the orbit."""
     import math
     snap = draped(scene_with(), sag=0.1)
-    k = snap.model.n * (snap.model.n // 2) + 3
+    k = snap.model.nx * (snap.model.nz // 2) + 3
     assert service.screen_delta_to_world(k, 0.1, 0.0) is None  # nothing drawn yet
     service.orbit(70, 25)
     service.submit(snap)

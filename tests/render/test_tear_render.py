@@ -14,7 +14,7 @@ def torn_across(snap):
     """The snapshot with the sheet cut along its middle row, edge to edge."""
     model = snap.model
     state = ClothState.from_model(model)
-    n = model.n
+    n = model.nx
     row = n // 2
     assert cut_between(model, state, row * n, row * n + n - 1) > 0
     return dataclasses.replace(snap, alive=state.alive.copy())
@@ -26,7 +26,7 @@ def test_a_cut_removes_a_row_of_faces_and_shows_a_gap(renderer):
     renderer.update_scene(whole.scene)
     renderer.reset_camera()
     img_whole = renderer.render(whole)
-    n = whole.model.n
+    n = whole.model.nx
     assert renderer.cloth.n_cells == 2 * (n - 1) ** 2
     torn = torn_across(whole)
     img_torn = renderer.render(torn)
@@ -62,7 +62,7 @@ def test_a_torn_sheet_casts_no_shadow_under_its_gap(renderer):
 
     whole = draped(scene_with(wireframe=False))
     torn = torn_across(whole)
-    n = whole.model.n
+    n = whole.model.nx
     x = np.array(whole.positions).reshape(n, n, 3)
     x[n // 2 + 1:, :, 2] += 0.5
     apart = dataclasses.replace(torn, positions=x.reshape(-1, 3))
@@ -75,7 +75,7 @@ def test_a_torn_sheet_casts_no_shadow_under_its_gap(renderer):
         return int((darker & ~cloth_red(img)[0]).sum())
 
     gap, no_gap = shaded(fresh(renderer, apart)), shaded(fresh(renderer, bridged))
-    assert renderer.shadow.drawn == (n, 0)
+    assert renderer.shadow.drawn == ((n, n), 0)
     assert no_gap - gap > 1000, (gap, no_gap)  # measured: 8.0k against 12.0k pixels
     fresh(renderer, apart)
     assert renderer.shadow.mesh.n_cells == renderer.cloth.n_cells  # the faces drawn

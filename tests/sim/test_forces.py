@@ -183,7 +183,7 @@ def test_wave_drives_one_edge_and_holds_the_other():
     s = scene(cloth__resolution=10, cloth__pinned="none", behavior__wave=True,
               behavior__wave_amplitude=0.1, behavior__wave_frequency=1.0)
     sim = Simulation(s)
-    driven, held = forces.wave_rows(10)
+    driven, held = forces.wave_rows(10, 10)
     assert set(driven) | set(held) <= set(sim.model.pinned)
     assert "wave" in sim.step.names
     y0 = sim.model.rest_positions[0, 1]

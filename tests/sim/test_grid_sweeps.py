@@ -6,9 +6,11 @@ from cloth_tui.sim import grid_sweeps, xpbd
 from cloth_tui.sim.model import build_model
 
 
-def _model(n, families=(True, True, True), pinned="corners"):
+def _model(n, families=(True, True, True), pinned="corners", size=1.0):
+    """A model of n particles a side, or of shape n = [nx, nz]."""
     s = Scene()
     s.cloth.resolution = n
+    s.cloth.size = size
     s.cloth.pinned = pinned
     s.behavior.structural, s.behavior.shear, s.behavior.bending = families
     return build_model(s.cloth, s.behavior)
@@ -19,7 +21,8 @@ def _intact(m):
 
 
 def _plan(m):
-    return grid_sweeps.plan_sweeps(m.n, m.edges, m.color_offsets, m.rest_length, m.inv_mass)
+    return grid_sweeps.plan_sweeps(m.nx, m.nz, m.edges, m.color_offsets, m.rest_length,
+                                   m.inv_mass)
 
 
 def _sweep(kernel, m, x, alpha_t, iterations=3, alive=None):
@@ -31,15 +34,17 @@ def _sweep(kernel, m, x, alpha_t, iterations=3, alive=None):
     return lam
 
 
-@pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 7, 9, 40])
+@pytest.mark.parametrize("n", [2, 3, 4, 5, 6, 7, 9, 40, [7, 13], [13, 7], [5, 41], [41, 5],
+                               [2, 9], [10, 3]])
 @pytest.mark.parametrize("kernel", [grid_sweeps.sweep_grid_colors,
                                     grid_sweeps.sweep_grid_colors_parallel])
 @pytest.mark.parametrize("alpha_t", [0.0, 0.5])
 def test_sweeps_match_the_plain_loop(n, kernel, alpha_t):
     # Same update, same order inside each colour's conflict-free set: the same positions
-    # and (XPBD) multipliers as the loop over model.edges, for every n mod 4.
+    # and (XPBD) multipliers as the loop over model.edges, for every n mod 4, and for
+    # sheets whose rows and columns differ in count (and in spacing: a square of 7 × 13).
     m = _model(n, pinned="one_edge")
-    rng = np.random.default_rng(n)
+    rng = np.random.default_rng(m.num_particles)
     x0 = m.rest_positions + rng.normal(scale=0.01, size=m.rest_positions.shape)
     a, b = x0.copy(), x0.copy()
     lam_ref = np.zeros(m.num_constraints)
@@ -120,14 +125,14 @@ def test_plan_rejects_colours_out_of_the_sweeps_order():
     offsets = off.copy()
     offsets[1] = off[0] + (off[2] - off[1])
     with pytest.raises(ValueError, match="order"):
-        grid_sweeps.plan_sweeps(m.n, edges, offsets, m.rest_length, m.inv_mass)
+        grid_sweeps.plan_sweeps(m.nx, m.nz, edges, offsets, m.rest_length, m.inv_mass)
 
 
 def test_plan_rejects_a_colour_mixing_two_sweep_colours():
     m = _model(6)
     offsets = np.delete(m.color_offsets, 1)  # colours 0 and 1 as one
     with pytest.raises(ValueError, match="colours"):
-        grid_sweeps.plan_sweeps(m.n, m.edges, offsets, m.rest_length, m.inv_mass)
+        grid_sweeps.plan_sweeps(m.nx, m.nz, m.edges, offsets, m.rest_length, m.inv_mass)
 
 
 def test_plan_rejects_a_constraint_between_far_particles():
@@ -135,10 +140,11 @@ def test_plan_rejects_a_constraint_between_far_particles():
     edges = m.edges.copy()
     edges[0] = (0, 14)
     with pytest.raises(ValueError, match="grid neighbours"):
-        grid_sweeps.plan_sweeps(m.n, edges, m.color_offsets, m.rest_length, m.inv_mass)
+        grid_sweeps.plan_sweeps(m.nx, m.nz, edges, m.color_offsets, m.rest_length,
+                                m.inv_mass)
 
 
-@pytest.mark.parametrize("n", [2, 3, 5, 8, 13])
+@pytest.mark.parametrize("n", [2, 3, 5, 8, 13, [7, 13], [13, 7], [5, 41], [3, 2]])
 def test_plan_gives_each_constraint_one_slot_joining_its_particles(n):
     # Written apart from the kernels' index arithmetic: every constraint has exactly one
     # slot, whose a and b places in the layout hold that constraint's two particles.
@@ -157,10 +163,11 @@ def test_plan_gives_each_constraint_one_slot_joining_its_particles(n):
                 assert plan.rest[s0 + t] == m.rest_length[e]
 
 
-def test_plan_colours_touch_each_particle_once():
+@pytest.mark.parametrize("n", [11, [7, 13], [13, 7], [5, 41]])
+def test_plan_colours_touch_each_particle_once(n):
     # Conflict-free even counting the padding and wrapped slots (alive 0) that still write
     # their particles back unchanged: threads sharing a colour then never race.
-    plan = _plan(_model(11, pinned="none"))
+    plan = _plan(_model(n, pinned="none"))
     for c in range(grid_sweeps.NUM_COLORS):
         places = []
         for a0, b0, _, count in plan.chunks[plan.color_chunks[c]:plan.color_chunks[c + 1]]:

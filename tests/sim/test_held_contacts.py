@@ -29,7 +29,7 @@ def unit(v):
 
 def held_position(pinned: str, k: int, height: float) -> list[float]:
     """Rest position of the k-th held particle (mod their count) of an N² sheet of 1 m."""
-    pins = pinned_indices(N, pinned)
+    pins = pinned_indices(N, N, pinned)
     i, j = divmod(int(pins[k % len(pins)]), N)
     return [-0.5 + j / (N - 1), height, -0.5 + i / (N - 1)]
 
@@ -97,7 +97,7 @@ def test_an_object_just_clear_of_held_particles_is_accepted(pinned, k, radius, u
     s = scene(cloth__resolution=N, cloth__pinned=pinned, scene__thickness=thickness)
     s.objects = [SceneObject(type="sphere", radius=radius,
                              center=[c + gap * w for c, w in zip(p, u)])]
-    held = [held_position(pinned, i, 0.25) for i in range(len(pinned_indices(N, pinned)))]
+    held = [held_position(pinned, i, 0.25) for i in range(len(pinned_indices(N, N, pinned)))]
     if min(math.dist(q, s.objects[0].center) for q in held) < gap:
         return  # another held particle is nearer: not the case this test is about
     check_start(s)

@@ -28,7 +28,7 @@ def test_a_drop_pushes_its_particle_down_and_neighbours_less():
     m = build_model(s.cloth, s.behavior)
     st = ClothState.from_model(m)
     n, c, depth, dt = 11, 5 * 11 + 5, 0.02, 1 / 60
-    impulses.apply_raindrop(st.x, st.v, m.inv_mass, n, c, depth, 1 / dt,
+    impulses.apply_raindrop(st.x, st.v, m.inv_mass, n, n, c, depth, 1 / dt,
                             1 / impulses.RAIN_RADIUS ** 2, impulses.RAIN_REACH)
     dy = st.x[:, 1] - m.rest_positions[:, 1]
     assert dy[c] == pytest.approx(-depth)
@@ -39,9 +39,24 @@ def test_a_drop_pushes_its_particle_down_and_neighbours_less():
     assert np.all(st.x[:, [0, 2]] == m.rest_positions[:, [0, 2]])  # straight down
     np.testing.assert_allclose(st.v[:, 1], dy / dt)  # the velocity of that motion
     # pinned particles are never moved
-    impulses.apply_raindrop(st.x, st.v, m.inv_mass, n, 0, depth, 1 / dt,
+    impulses.apply_raindrop(st.x, st.v, m.inv_mass, n, n, 0, depth, 1 / dt,
                             1 / impulses.RAIN_RADIUS ** 2, impulses.RAIN_REACH)
     assert st.x[0, 1] == m.rest_positions[0, 1]
+
+
+def test_a_drop_on_a_rectangle_stays_within_its_row_ends():
+    # 9 particles a row, 4 rows: a drop at the end of row 1 moves particles of rows 0–3 near
+    # column 8, and nothing at the start of the next row (the index after it).
+    s = scene(cloth__resolution=[9, 4], cloth__size=[2.0, 0.75], cloth__pinned="none")
+    m = build_model(s.cloth, s.behavior)
+    st = ClothState.from_model(m)
+    c, depth = 1 * 9 + 8, 0.02
+    impulses.apply_raindrop(st.x, st.v, m.inv_mass, m.nx, m.nz, c, depth, 60.0,
+                            1 / impulses.RAIN_RADIUS ** 2, impulses.RAIN_REACH)
+    moved = np.flatnonzero(st.x[:, 1] != m.rest_positions[:, 1])
+    rows, cols = np.divmod(moved, m.nx)
+    assert set(rows.tolist()) == {0, 1, 2, 3} and cols.min() == 8 - impulses.RAIN_REACH
+    assert st.x[c, 1] == pytest.approx(m.rest_positions[c, 1] - depth)
 
 
 def positions_after(s, frames=30):

@@ -91,7 +91,7 @@ def test_a_sphere_mesh_holds_the_sheet_where_the_analytic_sphere_does(sphere_stl
     assert resting.sum() > 10
     assert np.abs(rm - ra)[resting].max() < 2e-3
     assert rm.min() == pytest.approx(ra.min(), abs=2e-3)
-    apex = a.model.n // 2 * (a.model.n + 1)  # the centre particle, on top of the sphere
+    apex = a.model.nx // 2 * (a.model.nx + 1)  # the centre particle, on top of the sphere
     assert m.state.x[apex, 1] == pytest.approx(a.state.x[apex, 1], abs=2e-3)
 
 

@@ -91,7 +91,7 @@ def test_set_scene_rebuilds_model_only_when_needed():
     assert sim.set_scene(sim.scene.with_value("forces.gravity", False)) is False
     assert sim.model is model and "gravity" not in sim.step.names
     assert sim.set_scene(sim.scene.with_value("cloth.resolution", 10)) is True
-    assert sim.model.n == 10
+    assert (sim.model.nx, sim.model.nz) == (10, 10)
 
 
 def test_diverging_step_is_recovered():

@@ -61,4 +61,4 @@ def test_a_crushed_sheet_unfolds_with_both_position_based_solvers(solver):
     state.x_prev[:] = state.x
     for _ in range(10):
         step.substep(state)
-    assert np.ptp(state.x, axis=0).max() > 0.1 * model.size
+    assert np.ptp(state.x, axis=0).max() > 0.1 * model.extent

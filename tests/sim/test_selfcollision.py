@@ -17,9 +17,10 @@ def model(n, **overrides):
     return build_model(s.cloth, s.behavior)
 
 
-def stencil(n):
-    """Pairs the constraints govern (skipped by self-collision), as an (N, N) mask."""
-    i, j = np.divmod(np.arange(n * n), n)
+def stencil(n, nz=None):
+    """Pairs the constraints govern (skipped by self-collision) on a grid of nz rows of n
+    (nz = n: a square), as an (N, N) mask."""
+    i, j = np.divmod(np.arange(n * (n if nz is None else nz)), n)
     di = np.abs(i[:, None] - i[None, :])
     dj = np.abs(j[:, None] - j[None, :])
     return ((di <= 1) & (dj <= 1)) | ((di == 0) & (dj == 2)) | ((dj == 0) & (di == 2))
@@ -54,6 +55,24 @@ def test_hash_and_naive_resolve_the_same_pairs_on_random_clouds(seed):
     close = (d < selfcollision.COLLISION_FRACTION * m.spacing) & ~stencil(n)
     expected = {(int(a), int(b)) for a, b in zip(*np.nonzero(np.triu(close, 1)))}
     assert naive == expected
+
+
+@pytest.mark.parametrize("shape", [(23, 6), (5, 31), (16, 9)])
+def test_hash_and_naive_find_the_brute_force_pairs_on_a_rectangle(shape):
+    # Rows of nx particles: the stencil's neighbours (and what is not one, such as the last
+    # particle of a row and the first of the next) depend on nx alone, never on nz.
+    nx, nz = shape
+    m = model([nx, nz], cloth__size=[0.05 * (nx - 1), 0.05 * (nz - 1)])
+    assert (m.nx, m.nz) == (nx, nz)
+    rng = np.random.default_rng(nx * nz)
+    # the sheet crumpled: its particles in a box a few spacings wide, rows wrapped around
+    x = m.rest_positions * 0.15 + rng.normal(0, 0.5 * m.spacing, (nx * nz, 3))
+    d = np.linalg.norm(x[:, None] - x[None], axis=2)
+    close = (d < selfcollision.COLLISION_FRACTION * m.spacing) & ~stencil(nx, nz)
+    expected = {(int(a), int(b)) for a, b in zip(*np.nonzero(np.triu(close, 1)))}
+    assert len(expected) > 10
+    assert selfcollision.SelfCollision(m, "hash").pair_set(x) == expected
+    assert selfcollision.SelfCollision(m, "naive").pair_set(x) == expected
 
 
 def test_pair_buffer_grows_when_a_cloud_has_many_contacts():
@@ -180,7 +199,7 @@ def test_spatial_hash_buckets_stay_small_at_every_size():
 def test_stencil_constraints_name_the_constraint_of_each_neighbour():
     m = model(7, behavior__shear=False)  # a family off: its columns stay −1
     table = selfcollision.stencil_constraints(m)
-    n = m.n
+    n = m.nx
     for k, (di, dj) in enumerate(selfcollision.STENCIL):
         for p in range(n * n):
             e = table[p, k]
@@ -199,7 +218,7 @@ def test_a_torn_neighbour_pair_collides_and_an_intact_one_does_not(method, offse
     # The lips of a cut: once the constraint between two neighbours breaks, nothing keeps
     # them apart but self-collision.
     m = model(9)
-    n, (di, dj) = m.n, offset
+    n, (di, dj) = m.nx, offset
     a = 4 * n + 4
     b = a + di * n + dj
     x = np.array(m.rest_positions)
@@ -220,3 +239,20 @@ def test_a_torn_neighbour_pair_collides_and_an_intact_one_does_not(method, offse
     state.x, state.alive = x.copy(), np.ones(m.num_constraints, np.uint8)
     sc.apply(state, 0.0)
     np.testing.assert_array_equal(state.x[[a, b]], x[[a, b]])  # intact: the constraint's job
+
+
+@pytest.mark.parametrize("shape, size", [([256, 16], [4.0, 0.235]), ([16, 256], [0.235, 4.0]),
+                                         ([512, 8], [8.0, 0.11])])
+def test_spatial_hash_buckets_of_a_strip_are_as_small_as_a_squares(shape, size):
+    # 4096 particles as a square and as strips both ways: the strips' rows of cells must not
+    # fold onto each other in the table.
+    square, x = sheet_with_contacts(64)
+    sc = selfcollision.SelfCollision(square, "hash")
+    sc.find_pairs(x)
+    m = model(shape, cloth__size=size)
+    y = np.array(m.rest_positions)
+    y += np.random.default_rng(0).normal(0, 0.3 * m.spacing, y.shape)
+    strip = selfcollision.SelfCollision(m, "hash")
+    strip.find_pairs(y)
+    assert bucket_load(strip) < 1.15 * bucket_load(sc)
+    assert strip.pair_set(y) == selfcollision.SelfCollision(m, "naive").pair_set(y)

@@ -108,7 +108,7 @@ def test_a_cut_breaks_the_constraints_it_crosses_and_restart_heals():
     s = Scene()
     s.cloth.resolution = 10
     sim = Simulation(s)
-    n = sim.model.n
+    n = sim.model.nx
     cut = sim.cut(4 * n + 0, 4 * n + (n - 1))  # along row 4, across the whole sheet
     assert cut > 0 and sim.state.torn == cut
     e = sim.model.edges

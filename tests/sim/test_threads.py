@@ -1,33 +1,52 @@
-import time
-
 import pytest
 
 from cloth_tui.sim import threads
 
 
-class Recorder:
-    """A kernel that records its calls and takes `seconds` of busy CPU time."""
+class FakeClock:
+    """The chooser's clocks, advanced only by the kernels below: the timings a test sets are
+    the timings the chooser sees, however busy the machine running the test is."""
 
-    def __init__(self, name, seconds=0.0):
+    def __init__(self):
+        self.wall = 0.0
+        self.cpu = 0.0
+
+    def perf_counter(self):
+        return self.wall
+
+    def thread_time(self):
+        return self.cpu
+
+    def spend(self, seconds, on_cpu=True):
+        self.wall += seconds
+        if on_cpu:
+            self.cpu += seconds
+
+
+CLOCK = FakeClock()
+
+
+class Recorder:
+    """A kernel that records its calls and takes `seconds` of CPU time on the fake clock."""
+
+    def __init__(self, name, seconds=1e-6):
         self.__name__ = name
         self.seconds = seconds
         self.calls = 0
 
     def __call__(self, *args):
         self.calls += 1
-        end = time.perf_counter() + self.seconds
-        while time.perf_counter() < end:
-            pass
+        CLOCK.spend(self.seconds)
 
 
 @pytest.fixture(autouse=True)
 def _cores(monkeypatch):
+    global CLOCK
+    CLOCK = FakeClock()
+    monkeypatch.setattr(threads, "time", CLOCK)
     monkeypatch.setattr(threads, "usable_cores", lambda: 2)
     monkeypatch.setattr(threads, "load_average", lambda: 0.5)
     monkeypatch.setattr(threads, "runnable_now", lambda: 1)
-    # judge by the timings alone: on a loaded test machine even a spinning serial kernel
-    # gets preempted (test_preempted_serial_kernel_means_no_parallel_try checks that rule)
-    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.0)
     monkeypatch.delenv(threads.ENV_THREADS, raising=False)
     yield
     threads.force_single_thread(False)
@@ -78,8 +97,8 @@ def test_a_losing_parallel_kernel_is_tried_again_within_max_wait(monkeypatch):
         choice()
     assert parallel.calls == 1  # tried after FIRST_PROBE calls and lost
     tries = parallel.calls
-    end = time.perf_counter() + 0.3
-    while time.perf_counter() < end:
+    end = CLOCK.perf_counter() + 0.3
+    while CLOCK.perf_counter() < end:
         choice()
     assert parallel.calls - tries >= 3  # ~every 50 ms, not after 16, 32, 64… calls
 
@@ -178,12 +197,10 @@ def test_runnable_now_counts_at_least_the_caller():
 
 
 def test_preempted_serial_kernel_means_no_parallel_try(monkeypatch):
-    # A kernel that got a fraction of its wall time on the CPU (here it sleeps: the extreme
-    # of preemption) shows a machine with no idle core: the parallel kernel is not tried.
-    monkeypatch.setattr(threads, "CONTENDED_CPU_SHARE", 0.8)
-
+    # A kernel that got a fraction of its wall time on the CPU (here none: the extreme of
+    # preemption) shows a machine with no idle core: the parallel kernel is not tried.
     def sleepy():
-        time.sleep(0.002)
+        CLOCK.spend(0.002, on_cpu=False)
     sleepy.__name__ = "s"
     parallel = Recorder("p")
     choice = threads.KernelChoice(sleepy, parallel)

@@ -105,10 +105,11 @@ class FakeRenderService:
         return int(np.argmin((pu - u) ** 2 + (pv - v) ** 2))
 
     def screen_delta_to_world(self, particle, du, dv):
-        """The fake's orthographic front view spans 2·size metres both ways."""
+        """The fake's orthographic front view spans twice the sheet's longer side both
+        ways."""
         if self.snapshot is None or not 0 <= int(particle) < len(self.snapshot.positions):
             return None
-        span = 2 * self.scene.cloth.size
+        span = 2 * self.scene.cloth.extent()
         self.calls.append(("screen_delta_to_world", particle, du, dv))
         return (du * span, -dv * span, 0.0)
 
@@ -118,7 +119,7 @@ class FakeRenderService:
             self.on_event(ev)
 
     def _project(self, x):
-        half = self.scene.cloth.size  # the view spans ±size around the origin
+        half = self.scene.cloth.extent()  # the view spans ±(longer side) around the origin
         return (x[:, 0] + half) / (2 * half), (half - x[:, 1]) / (2 * half)
 
     def render(self) -> np.ndarray:

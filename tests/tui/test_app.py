@@ -59,7 +59,7 @@ def test_panel_controls_change_the_scene(tmp_path):
             field = await _type_into(pilot, app, "cloth.resolution", "10")
             # accepted with Enter: on to the next field
             assert app.focused is app.query_one("#" + widget_id("appearance.wireframe"))
-            await until(pilot, lambda: app.sim.sim.model.n == 10, what="rebuilt model")
+            await until(pilot, lambda: app.sim.sim.model.nx == app.sim.sim.model.nz == 10, what="rebuilt model")
             await _type_into(pilot, app, "forces.wind_direction", "[1, 0, 0]")
             assert app.scene.forces.wind_direction == [1.0, 0.0, 0.0]
             await _type_into(pilot, app, "appearance.fog_color", "#000000")

@@ -121,3 +121,31 @@ def test_colour_fields_show_a_swatch_and_show_constraints_is_in_appearance(tmp_p
             assert appearance.query("#" + widget_id("appearance.show_constraints"))
             assert isinstance(_control(app, "appearance.show_constraints"), Switch)
     run(go())
+
+
+def test_size_and_resolution_fields_take_a_rectangle_and_refuse_a_bad_one(tmp_path):
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            size = _control(app, "cloth.size")
+            size.focus()
+            size.value = "2, 0.5"
+            await pilot.press("enter")
+            await until(pilot, lambda: sim_scene(app).cloth.size == [2.0, 0.5],
+                        what="a rectangle applied")
+            await until(pilot, lambda: (app.sim.sim.model.nx, app.sim.sim.model.nz) == (26, 7),
+                        what="its model")
+            resolution = _control(app, "cloth.resolution")
+            resolution.focus()
+            resolution.value = "30, 1"  # a single row: refused, the last good value kept
+            await pilot.press("enter")
+            await until(pilot, lambda: any("cloth.resolution" in m
+                                           for m in notifications(app)), what="a message")
+            assert app.scene.cloth.resolution == 26 and resolution.value == "26"
+            resolution.focus()
+            resolution.value = "[30, 8]"
+            await pilot.press("enter")
+            await until(pilot, lambda: (app.sim.sim.model.nx, app.sim.sim.model.nz) == (30, 8),
+                        what="the given counts")
+            assert size.value == "2, 0.5"
+    run(go())

@@ -87,6 +87,14 @@ def test_input_text_parsing():
     assert parse_text("cloth.resolution", "12") == 12
     assert parse_text("cloth.resolution", "1.5") == 1.5  # refused later: not an integer
     assert parse_text("cloth.size", "abc") == "abc"
+    assert parse_text("cloth.size", "1.5") == 1.5  # one number: a square
+    assert parse_text("cloth.size", "2, 0.5") == [2.0, 0.5]  # two: [width, length]
+    assert parse_text("cloth.size", "[2 0.5]") == [2.0, 0.5]
+    assert parse_text("cloth.size", "2, wide") == "2, wide"  # refused later
+    assert parse_text("cloth.resolution", "31, 11") == [31, 11]
+    assert parse_text("cloth.resolution", "31, 1.5") == [31, 1.5]  # refused later
+    assert parse_text("cloth.resolution", "") == ""
+    assert format_value([2.0, 0.5]) == "2, 0.5" and format_value([31, 11]) == "31, 11"
     assert format_value([1.0, 0.0, 0.5]) == "1, 0, 0.5" and format_value(1e-8) == "1e-08"
 
 

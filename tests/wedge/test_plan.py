@@ -25,6 +25,15 @@ def test_vectors_and_plain_strings_are_values():
     assert varies[1].values == ("none", "corners")
 
 
+def test_sheet_shapes_are_values_and_a_one_row_run_is_refused():
+    varies, cells = plan(load("default"), ["cloth.size=1,[2,0.5]", "cloth.resolution=[9,4],12"])
+    assert varies[0].values == (1.0, [2.0, 0.5]) and varies[1].values == ([9, 4], 12)
+    assert [c.scene.cloth.grid_shape() for c in cells] == [(9, 4), (12, 12), (9, 4), (12, 4)]
+    with pytest.raises(UsageError) as e:
+        plan(load("default"), ["cloth.size=[1,0.01]", "cloth.resolution=26,[26,2]"])
+    assert "single row" in str(e.value) and "\n" not in str(e.value)
+
+
 @pytest.mark.parametrize("vary, words", [
     ("forces.nope=1,2", "unknown key"),
     ("forces.wind_strength=2,-1", "-1"),
