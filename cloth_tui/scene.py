@@ -15,6 +15,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
+                         groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .safe_text import escape_controls
 from .texture_names import BUILTIN_TEXTURES
@@ -230,6 +232,8 @@ class Appearance:
     wireframe: bool = key(False, "draw the cloth as a wireframe")
     auto_rotate: bool = key(False, "orbit the camera")
     show_constraints: bool = key(False, "draw constraints coloured by family")
+    show_pins: bool = key(True, "mark the held particles with small dots in the app's "
+                          "preview (renders from the command line leave them out)")
     cloth_color: str = key("#aa2929", "cloth colour", kind="color")
     cloth_specular: str = key("#030303", "cloth reflection (specular colour)", kind="color")
     ground_color: str = key("#404761", "ground colour", kind="color")
@@ -247,6 +251,7 @@ class Scene:
     behavior: Behavior = field(default_factory=Behavior)
     appearance: Appearance = field(default_factory=Appearance)
     objects: list[SceneObject] = field(default_factory=list)
+    pins: list[PinGroup] = field(default_factory=list)  # [[pins]]: pin_groups.py
     name: str = field(default="default", compare=False)
 
     def copy(self) -> "Scene":
@@ -265,6 +270,9 @@ class Scene:
         keys that constrain each other may change in any order)."""
         new = self.copy()
         for dotted, value in values.items():
+            if dotted == "pins":  # the whole [[pins]] array (pin_groups.py)
+                new.pins = groups_from_list(value)
+                continue
             section, name = split_key(dotted)
             sec = getattr(new, section)
             setattr(sec, name, _coerce(sec, name, value, dotted))
@@ -274,6 +282,10 @@ class Scene:
     def with_objects(self, objects: list[dict[str, Any]]) -> "Scene":
         """A validated copy whose [[objects]] are `objects` (tables as in a scene file)."""
         return from_dict({**to_dict(self), "objects": objects}, self.name)
+
+    def with_pins(self, pins: list[dict[str, Any]]) -> "Scene":
+        """A validated copy whose [[pins]] are `pins` (tables as in a scene file)."""
+        return from_dict({**to_dict(self), "pins": pins}, self.name)
 
 
 SECTION_TYPES = {"cloth": Cloth, "forces": Forces, "scene": SceneSection,
@@ -442,13 +454,18 @@ def validate(scene: Scene) -> None:
             raise SceneError(f"objects[{i}]: " + ("a mesh needs `path`, its surface file"
                              if o.path == "" else f"`path` is for meshes, not a {o.type}"))
     c, s = scene.cloth, scene.scene
+    check_groups(scene.pins, *grid_of(c))
     holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and
-                                                              c.pin_fraction > 0) or b.wave)
-    lowest_held = c.height - (b.wave_amplitude if b.wave else 0.0)  # the wave's trough
+                                                              c.pin_fraction > 0) or b.wave
+                       or any(g.stiffness == 1.0 for g in scene.pins))
+    # the wave's trough, or the lowest a pin group holds its particles
+    lowest_held = c.height + min(-b.wave_amplitude if b.wave else 0.0,
+                                 lowest_offset(scene.pins))
     if s.floor and holds_particles and lowest_held < s.floor_height + s.thickness:
         # Held particles cannot be pushed out of the floor: the contact could never hold.
         raise SceneError(f"held particles (cloth.pinned = \"{c.pinned}\""
-                         f"{', behavior.wave' if b.wave else ''}) reach down to "
+                         f"{', behavior.wave' if b.wave else ''}"
+                         f"{', [[pins]]' if scene.pins else ''}) reach down to "
                          f"{lowest_held:g} m, inside the floor (scene.floor_height = "
                          f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m); raise "
                          "cloth.height or lower the floor")
@@ -508,9 +525,11 @@ def from_dict(data: dict, name: str = "scene") -> Scene:
                 raise SceneError(f"objects: {len(v)} objects; at most 64 are allowed")
             scene.objects = [_section_from_dict(SceneObject, o, f"objects[{i}]")
                              for i, o in enumerate(v)]
+        elif k == "pins":
+            scene.pins = groups_from_list(v)
         else:
             raise SceneError(f"unknown section [{k}]: allowed are {', '.join(SECTIONS)}, "
-                             "[[objects]]")
+                             "[[objects]], [[pins]]")
     validate(scene)
     return scene
 
@@ -526,4 +545,6 @@ def to_dict(scene: Scene, only_changed: bool = False) -> dict:
             out[s] = d
     if scene.objects:
         out["objects"] = [dataclasses.asdict(o) for o in scene.objects]
+    if scene.pins:
+        out["pins"] = [group_to_dict(g) for g in scene.pins]
     return out

@@ -31,9 +31,10 @@ def dumps(scene: Scene) -> str:
     # A comment cannot hold control characters (a newline in a file's name would end it).
     lines = [f"# cloth-tui scene: {escape_controls(scene.name)}"]
     for section, values in to_dict(scene).items():
-        if section == "objects":
-            for obj in values:
-                lines += ["", "[[objects]]"] + [f"{k} = {toml_value(v)}" for k, v in obj.items()]
+        if section in ("objects", "pins"):
+            for table in values:
+                lines += ["", f"[[{section}]]"] + [f"{k} = {toml_value(v)}"
+                                                   for k, v in table.items()]
         else:
             lines += ["", f"[{section}]"] + [f"{k} = {toml_value(v)}" for k, v in values.items()]
     return "\n".join(lines) + "\n"
@@ -100,7 +101,8 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise SceneError(f"--set {text!r}: expected SECTION.KEY=VALUE")
     dotted, raw = text.split("=", 1)
     dotted, raw = dotted.strip(), raw.strip()
-    split_key(dotted)
+    if dotted != "pins":  # `pins=[{...}, ...]` sets the whole [[pins]] array
+        split_key(dotted)
     if raw == "":
         raise SceneError(f"--set {text!r}: missing value after '='")
     try:

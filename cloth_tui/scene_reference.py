@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from .pin_groups import ALLOWED, PinGroup
 from .scene import SECTION_TYPES, SECTIONS, SceneObject, describe_allowed
 from .scene_files import toml_value
 
@@ -20,10 +21,17 @@ def reference_markdown() -> str:
              "Each `[[objects]]` table adds one object (a custom scene with several objects).\n",
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
     rows += [_reference_row(f) for f in dataclasses.fields(SceneObject)]
+    rows += ["\n### [[pins]]\n",
+             "Each `[[pins]]` table holds a group of particles (see Pin groups; with "
+             "`--set`, `pins=[{...}, ...]` sets the whole array).\n",
+             "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
+    rows += [_reference_row(f, ALLOWED[f.name]) for f in dataclasses.fields(PinGroup)]
     return "\n".join(rows) + "\n"
 
 
-def _reference_row(f: dataclasses.Field) -> str:
+def _reference_row(f: dataclasses.Field, allowed: str | None = None) -> str:
     default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
-    return (f"| `{f.name}` | `{toml_value(default)}` | {f.metadata['unit']} | "
-            f"{describe_allowed(f)} | {f.metadata['doc']} |")
+    shown = "(all)" if f.name in ("rows", "cols") else "(none)" if default == [] else \
+        f"`{toml_value(default)}`"
+    return (f"| `{f.name}` | {shown} | {f.metadata['unit']} | "
+            f"{allowed or describe_allowed(f)} | {f.metadata['doc']} |")

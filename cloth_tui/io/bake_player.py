@@ -14,7 +14,7 @@ from .usd_read import UsdBake
 def bake_model(bake: UsdBake, scene: Scene) -> ClothModel:
     """The sheet the recorded scene builds (faces, UVs, pins for drawing); bad input if its
     grid (when the bake records one) or its particle count is not the bake's."""
-    model = build_model(scene.cloth, scene.behavior)
+    model = build_model(scene.cloth, scene.behavior, scene.pins)
     if bake.grid is not None and bake.grid != (model.nx, model.nz):
         raise UsageError(f"{bake.path}: its cloth is a grid of {bake.grid[0]} × "
                          f"{bake.grid[1]} particles, its recorded scene makes {model.nx} × "

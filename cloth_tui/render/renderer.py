@@ -20,6 +20,7 @@ from ..sim.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        drawable, family_colors, hex_rgb, pick_nearest, triangle_edges,
                        view_plane_delta)
+from .pin_markers import PinMarkers
 from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .shadow import Shadow
@@ -45,7 +46,8 @@ def check_size(w, h) -> tuple[int, int]:
 
 
 class Renderer:
-    def __init__(self, scene, size=(640, 480)):
+    def __init__(self, scene, size=(640, 480), markers: bool = False):
+        """`markers`: dots on the held particles (the app's preview; pin_markers.py)."""
         require_renderer()  # RendererUnavailable, not a segfault, where GL cannot start
         pv = pyvista_quiet()
         self.pv = pv
@@ -71,6 +73,7 @@ class Renderer:
         self.poles = Poles(pv, self.plotter)
         self.objects = Objects(pv, self.plotter)
         self.shadow = Shadow(pv, self.plotter)
+        self.markers = PinMarkers(pv, self.plotter) if markers else None
         self.cloth = self.cloth_actor = self.wire = self.wire_actor = None
         self.lines = self.lines_actor = None
         self._model = None
@@ -339,6 +342,8 @@ class Renderer:
         self._update_cloth(positions)
         self._positions = positions
         self.objects.update(snapshot.objects)
+        if self.markers is not None:
+            self.markers.update(snapshot.model, positions, self._scene.appearance.show_pins)
         self.shadow.update(positions, (snapshot.model.nx, snapshot.model.nz), self.elevation,
                            self._tri, self._faces_for[1])
         if self._scene.appearance.auto_rotate:

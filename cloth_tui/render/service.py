@@ -161,7 +161,7 @@ class RenderService:
     def _run(self) -> None:
         try:
             from .renderer import Renderer
-            self._renderer = Renderer(self._scene, self._size)
+            self._renderer = Renderer(self._scene, self._size, markers=True)
         except Exception as e:  # no GL, say: the app keeps running without pictures
             self.error = e
             self._recording = False

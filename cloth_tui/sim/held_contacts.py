@@ -1,14 +1,14 @@
-"""Held particles (pins, and both edges of the wave) are never pushed by a contact: one that
-starts inside an object's skin, or a sheet held on both sides of a plane (which cannot be
-walked around), makes contacts that can never hold. The sheet then tears itself apart
-between the object and the pins (issue 19's fuzzer: a sphere of radius 1000 m around a pinned
-sheet, a plane above pinned corners). Such a scene is refused with the reason, as
-scene.validate refuses held particles inside the floor; that one is checked there, since it
-needs no model. A static object is checked where the scene puts it; a moving one at
-ORBIT_SAMPLES places along its orbit (one that swept a 0.1 m sphere over a pinned corner
-stretched the sheet's constraints to 2.9× their length and pinned the adaptive substeps at
-their maximum while it passed).
-"""
+"""Held particles (pins, pin groups, and both edges of the wave) are never pushed by a
+contact: one that starts inside an object's skin, or a sheet held on both sides of a plane
+(which cannot be walked around), makes contacts that can never hold. The sheet then tears
+itself apart between the object and the pins (issue 19's fuzzer: a sphere of radius 1000 m
+around a pinned sheet, a plane above pinned corners). Such a scene is refused with the
+reason, as scene.validate refuses held particles inside the floor; that one is checked there,
+since it needs no model. Pin groups with keys are checked along their tracks
+(pins.track_times); soft pins not at all, since a contact can push them. A static object is
+checked where the scene puts it; a moving one at ORBIT_SAMPLES places along its orbit (one
+that swept a 0.1 m sphere over a pinned corner stretched the sheet's constraints to 2.9×
+their length and pinned the adaptive substeps at their maximum while it passed)."""
 
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from .colliders import ORBIT_PERIOD, Floor, ObjectCollider, ShapeCollider, build
 from .forces import wave_rows
 from .mesh_collider import build_mesh_colliders
 from .model import ClothModel, build_model
+from .pins import hard_anchors, track_times
 
 WAVE_SAMPLES = 9  # heights of the wave's driven edge checked, from trough to crest
 # Places checked along a moving object's orbit (2π · 0.25 m round): 1.2 cm apart. A distance
@@ -77,28 +78,33 @@ def check_start(scene: Scene) -> None:
     """The same check for a scene that has no simulation yet (the app, before it applies a
     change): a model without tethers is enough, and cheaper."""
     behavior = dataclasses.replace(scene.behavior, tethers=False)
-    check_held_particles(scene, build_model(scene.cloth, behavior))
+    check_held_particles(scene, build_model(scene.cloth, behavior, scene.pins))
 
 
 def _held(scene: Scene) -> str:
     c, b = scene.cloth, scene.behavior
-    return f"cloth.pinned = \"{c.pinned}\"" + (", behavior.wave" if b.wave else "")
+    return (f"cloth.pinned = \"{c.pinned}\"" + (", behavior.wave" if b.wave else "")
+            + (", [[pins]]" if scene.pins else ""))
 
 
 def _held_positions(scene: Scene, model: ClothModel) -> list[np.ndarray]:
-    """Where the held particles are at the start and, with the wave, with its driven edge at
-    each of several heights from trough to crest (the floor check takes its trough). Each set
-    has at most one point per particle (signed_distance reads a per-particle side)."""
-    rest = model.rest_positions
+    """Where the held particles are: at the start and, for groups with keys, along their
+    tracks (pins.track_times); with the wave, with its driven edge at each of several heights
+    from trough to crest (the floor check takes its trough). Each set has at most one point
+    per particle (signed_distance reads a per-particle side)."""
     b = scene.behavior
+    lay = model.pin_layout
+    times = track_times(lay.hard) if lay is not None else [0.0]
+    places = [hard_anchors(model, float(t)) for t in times]
     if not b.wave or b.wave_amplitude == 0.0:
-        return [rest[model.pinned]]
+        return places
     driven = np.isin(model.pinned, wave_rows(model.nx, model.nz)[0])
     out = []
-    for dy in np.linspace(-b.wave_amplitude, b.wave_amplitude, WAVE_SAMPLES):
-        points = rest[model.pinned].copy()
-        points[driven, 1] += dy
-        out.append(points)
+    for anchors in places:
+        for dy in np.linspace(-b.wave_amplitude, b.wave_amplitude, WAVE_SAMPLES):
+            points = anchors.copy()
+            points[driven, 1] += dy
+            out.append(points)
     return out
 
 

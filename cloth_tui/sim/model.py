@@ -14,6 +14,7 @@ import numpy as np
 
 from .forces import wave_rows
 from .grid_sweeps import grid_colors
+from .pins import PinLayout, layout
 
 FAMILIES = ("structural", "shear", "bending")
 STRUCTURAL, SHEAR, BENDING = 0, 1, 2
@@ -36,6 +37,7 @@ class ClothModel:
     triangles: np.ndarray       # (T, 3) int64, two per grid cell, for rendering and wind
     tether_pin: np.ndarray | None = None     # (N,) index into `pinned` of the nearest pin, −1 none
     tether_length: np.ndarray | None = None  # (N,) m, rest distance to that pin
+    pin_layout: PinLayout | None = None  # where pins hold (offsets, keys) and soft pins (pins.py)
 
     @property
     def num_particles(self) -> int:
@@ -182,8 +184,8 @@ def particle_masses(nx: int, nz: int, total: float, mass_model: str = "area") ->
     return (cell * np.outer(row_share, col_share)).ravel()
 
 
-def build_model(cloth, behavior) -> ClothModel:
-    """Build the model from the scene's [cloth] and [behavior] sections."""
+def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
+    """Build the model from the scene's [cloth] and [behavior] sections and its [[pins]]."""
     nx, nz = cloth.grid_shape()
     width, length = cloth.dimensions()
     zz, xx = np.meshgrid(np.linspace(-length / 2, length / 2, nz),
@@ -200,9 +202,13 @@ def build_model(cloth, behavior) -> ClothModel:
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
     pins = pinned_indices(nx, nz, cloth.pinned, behavior.seed, cloth.pin_fraction)
+    held = [(f"cloth.pinned = \"{cloth.pinned}\"", pins)]
     if behavior.wave:
         # The wave drives the near edge (row nz−1) and holds the far edge (row 0): both pinned.
-        pins = np.union1d(pins, np.concatenate(wave_rows(nx, nz)))
+        held.append(("behavior.wave", np.concatenate(wave_rows(nx, nz))))
+    pins, pin_layout = layout(held, list(pin_groups), rest, nz, nx)
+    if not pin_groups:
+        pin_layout = None  # every pin held in place: the model's `pinned` says it all
     mass = particle_masses(nx, nz, cloth.mass, cloth.mass_model)
     inv_mass = 1.0 / mass
     inv_mass[pins] = 0.0
@@ -218,4 +224,5 @@ def build_model(cloth, behavior) -> ClothModel:
                       mass=mass, inv_mass=inv_mass, pinned=pins,
                       edges=np.ascontiguousarray(edges), rest_length=rest_length,
                       family=family, color_offsets=offsets, triangles=grid_triangles(nx, nz),
-                      tether_pin=tether_pin, tether_length=tether_length)
+                      tether_pin=tether_pin, tether_length=tether_length,
+                      pin_layout=pin_layout)

@@ -9,7 +9,7 @@ The order of a substep's stages lives here and only here (`assemble`):
     resolve_contacts        re-projection of what the constraints pulled into an object
     tear_constraints        (behavior.tear) overstretched constraints break (tearing.py)
     contact_friction        Coulomb friction on the contacts' whole substep motion
-    apply_pins
+    apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
     solver.velocities()
 A scene without wind has no wind effect, so it runs no wind code. Effects, force effects,
 colliders and solvers are the Protocols of protocols.py.
@@ -25,6 +25,7 @@ from ..scene import Scene
 from . import (colliders, forces, impulses, mesh_collider, selfcollision, solvers, springs,
                tearing)
 from .model import ClothModel
+from .pins import pin_effects
 from .protocols import Collider, Effect, ForceEffect, Solver
 from .stages import ApplyPins, EnforceTethers
 
@@ -73,7 +74,8 @@ def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[F
 def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider],
              contact_effects: list[Effect], tear: Effect | None = None) -> list[Effect]:
     """The substep's stages, in order (see the module's docstring)."""
-    effects = list(solver.integrate())
+    move_pins, soft_pins = pin_effects(model)
+    effects = move_pins + list(solver.integrate())
     effects += contact_effects
     if model.tether_pin is not None:
         # Before the constraints, which then smooth the tether's pull into the sheet: on a
@@ -91,6 +93,7 @@ def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider]
         effects.append(colliders.ContactFriction(collider_effects))
     if len(model.pinned):
         effects.append(ApplyPins(model))
+    effects += soft_pins
     effects.append(solver.velocities())
     return effects
 

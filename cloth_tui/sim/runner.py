@@ -11,12 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import Behavior, Scene, integrator_for
+from ..scene import Behavior, Scene, SceneError, integrator_for
 from . import pipeline
 from .measures import (all_finite, constraint_error, elastic_energy, energy,
                        gravitational_energy, kinetic_energy, max_stretch, stretch)
 from .held_contacts import check_held_particles
 from .model import ClothModel, build_model, uses_tethers
+from .pins import with_user_pin
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
@@ -33,9 +34,9 @@ SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts a
 # moving object) stays.
 STRETCH_CONVERGED = 0.1
 # A force-based integrator going unstable pumps energy in. In a scene with no energy source
-# (wind, fields, rain, a wave, moving objects) a frame may not gain more than this share of
-# the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping, contacts and
-# a stable integrator only lose energy, an unstable one gains it exponentially.
+# (wind, fields, rain, a wave, moving objects or pins) a frame may not gain more than this
+# share of the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping,
+# contacts and a stable integrator only lose energy, an unstable one gains it exponentially.
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
@@ -60,7 +61,8 @@ def has_energy_source(scene: Scene) -> bool:
     f = scene.forces
     return (f.wind or f.custom != "none" or f.rain or scene.behavior.wave
             or (scene.scene.moving and scene.scene.object != "none")
-            or any(o.motion != "static" for o in scene.objects))
+            or any(o.motion != "static" for o in scene.objects)
+            or any(g.keys for g in scene.pins))  # moving pin groups
 
 
 @dataclass(frozen=True)
@@ -88,7 +90,7 @@ class Simulation:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
         Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
         b = scene.behavior
-        new_model = build_model(scene.cloth, b) if model else self.model
+        new_model = build_model(scene.cloth, b, scene.pins) if model else self.model
         check_held_particles(scene, new_model)  # before anything changes: a refusal keeps all
         self.scene = scene
         if model:
@@ -121,7 +123,7 @@ class Simulation:
         changed = {(s, f.name) for s in ("cloth", "behavior")
                    for f in dataclasses.fields(getattr(scene, s))
                    if getattr(getattr(scene, s), f.name) != getattr(getattr(self.scene, s), f.name)}
-        rebuild_model = bool(changed & MODEL_KEYS) \
+        rebuild_model = bool(changed & MODEL_KEYS) or scene.pins != self.scene.pins \
             or uses_tethers(scene.behavior) != uses_tethers(self.scene.behavior)
         self._rebuild(scene, model=rebuild_model)
         return rebuild_model
@@ -261,6 +263,29 @@ class Simulation:
         w[m.inv_mass[idx] == 0.0] = 0.0
         self.state.x[idx] += w[:, None] * d
         self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
+
+    def pin(self, particle: int, position) -> None:
+        """Hold `particle` exactly at `position` until the sheet is rebuilt (the app's pin
+        gesture; a restart brings back the scene's pins alone). Raises SceneError, changing
+        nothing, where a held particle may not be: in the floor or an object's skin, or on a
+        particle a soft or moving group places."""
+        s = self.scene.scene
+        if s.floor and float(position[1]) < s.floor_height + s.thickness:
+            raise SceneError(f"a pin at height {float(position[1]):.3g} m would hold the "
+                             f"particle inside the floor (scene.floor_height = "
+                             f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m)")
+        model, slot = with_user_pin(self.model, int(particle), position)
+        check_held_particles(self.scene, model)
+        st = self.state
+        p = np.asarray(position, np.float64)
+        if slot == len(st.anchors):
+            st.anchors = np.vstack([st.anchors, p])
+        st.anchors[slot] = p
+        st.x[particle] = st.x_prev[particle] = p
+        st.v[particle] = 0.0
+        self.model = model
+        self._good, self._trial = st.copy(), st.copy()
+        self._build_step()
 
     def cut(self, p0: int, p1: int) -> int:
         """Cut the sheet between two particles (tearing.cut_between); returns how many

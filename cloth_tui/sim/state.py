@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import ClothModel
+from .pins import hard_anchors, start_positions
 
 
 @dataclass
@@ -15,7 +16,7 @@ class ClothState:
     x_prev: np.ndarray  # (N, 3) positions at the start of the current substep, m
     v: np.ndarray       # (N, 3) velocities, m/s
     accel: np.ndarray   # (N, 3) accumulated external acceleration of this substep, m/s²
-    anchors: np.ndarray  # (K, 3) where the pinned particles are held (moved by the wave)
+    anchors: np.ndarray  # (K, 3) where the pinned particles are held (moved by the wave, pin keys)
     alive: np.ndarray   # (M,) uint8: 1 for a constraint in the solve, 0 once torn (tearing.py)
     t: float = 0.0      # simulated time, s
     steps: int = 0      # substeps taken
@@ -23,9 +24,9 @@ class ClothState:
 
     @classmethod
     def from_model(cls, model: ClothModel) -> "ClothState":
-        x = np.array(model.rest_positions, dtype=np.float64)
+        x = start_positions(model)
         return cls(x=x, x_prev=x.copy(), v=np.zeros_like(x), accel=np.zeros_like(x),
-                   anchors=x[model.pinned].copy(),
+                   anchors=hard_anchors(model, 0.0),
                    alive=np.ones(model.num_constraints, dtype=np.uint8))
 
     def copy(self) -> "ClothState":

@@ -12,7 +12,7 @@ VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse d
 # Actions a focused text field or open dropdown keeps for itself (it needs those keys).
 TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake", "save_scene",
                      "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera",
-                     "one_thread", "help"}
+                     "one_thread", "help", "pin"}
 # Actions whose key a focused control (switch, button, dropdown, group title) acts on.
 CONTROL_KEYS_ACTIONS = {"pause"}  # space toggles a switch, presses a button, opens a group
 
@@ -28,7 +28,8 @@ KEY_GROUPS: dict[str, list[Binding]] = {
     "Simulation": [
         key("space", "pause", "Pause", "pause or run the simulation (when no control has "
             "focus; on a switch, space toggles it)"),
-        key("r", "restart", "Restart", "start the sheet again from its rest shape"),
+        key("r", "restart", "Restart", "start the sheet again from its rest shape, held by "
+            "the scene's pins alone"),
         key("t", "one_thread", "One thread", "physics on one thread, or back to the measured "
             "choice of one or two (as CLOTH_TUI_THREADS=1 does for a whole run)", show=False),
         key("q", "quit", "Quit", "quit (a running video is finished first)"),
@@ -79,6 +80,8 @@ KEY_GROUPS: dict[str, list[Binding]] = {
             show=False),
         key("j,shift+down", "crosshair(0, 1)", "Crosshair down", "move the crosshair down",
             show=False),
+        key("p", "pin", "Pin", "pin the particle under the pointer (or the crosshair) where it "
+            "is, as Ctrl+drag does (r restores the scene's pins)", show=False),
     ],
 }
 
@@ -89,6 +92,8 @@ APP_BINDINGS = [b for group in KEY_GROUPS.values() for b in group] + [
 # What the mouse does (Preview's handlers); keys of the fields are their widgets' bindings.
 MOUSE_ACTIONS = [
     ("drag on the cloth", "grab the particle under the pointer and pull it"),
+    ("Ctrl+drag on the cloth", "pull a particle and pin it where you let go (r restores "
+     "the scene's pins)"),
     ("right-drag on the cloth", "cut it along the path (the torn count shows; r heals)"),
     ("pointer over the view", "arrows and PageUp/PageDown push the particle under it"),
     ("click a field", "edit it; hover a setting for its description"),

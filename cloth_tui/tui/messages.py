@@ -20,6 +20,15 @@ class SimDied(Message):
         self.error = error
 
 
+class PinResult(Message):
+    """Posted when the simulation thread has pinned a grabbed particle (the Ctrl+drag
+    gesture), or refused to: `text` says which and why; `ok`: it was pinned."""
+
+    def __init__(self, text: str, ok: bool) -> None:
+        super().__init__()
+        self.text, self.ok = text, ok
+
+
 class Captured(Message):
     def __init__(self, event: Any) -> None:
         super().__init__()

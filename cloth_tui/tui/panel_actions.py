@@ -1,5 +1,5 @@
 """What the control panels, the help and the layout ask of the app: a field edited, the
-objects changed, a panel button, the controls drawer, the help screen, and a digit typed with
+objects or pin groups changed, a panel button, the controls drawer, the help screen, and a digit typed with
 no field focused. A mixin of `ClothApp`, which owns the scene and applies it."""
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from ..scene import Scene, SceneError
 from ..sim.held_contacts import check_start
 from .help import HelpScreen
 from .panels import Controls, ObjectsPanel, SettingField
+from .pins_panel import PinsPanel
 from .view_actions import typed_digit_notice
 
 WIDE_FROM = 120  # columns; below, the controls are a drawer and the status line is compact
@@ -52,6 +53,19 @@ class PanelActions:
             check_start(new)  # an object over a pinned particle: refused here, not by the sim
         except SceneError as e:
             self.notify(str(e), title="Object refused", severity="error", timeout=8)
+            if message.field is not None:
+                message.field.show(message.field.last_good)
+            return
+        self.apply_scene(new)
+        if message.submitted:
+            self.screen.focus_next()
+
+    def on_pins_panel_changed(self, message: PinsPanel.Changed) -> None:
+        try:
+            new = self.scene.with_pins(message.pins)
+            check_start(new)  # groups that disagree, or a held particle inside an object
+        except SceneError as e:
+            self.notify(str(e), title="Pin group refused", severity="error", timeout=8)
             if message.field is not None:
                 message.field.show(message.field.last_good)
             return

@@ -3,12 +3,14 @@ a Switch for booleans, a Select for choices, an Input for numbers, vectors, colo
 textures (validated when submitted or left). Rows never change the scene themselves: they
 post `SettingField.Edited` and the app decides (and may refuse, restoring the shown value).
 The Scene group also lists the scene's [[objects]] (ObjectsPanel): the same rows, read from
-SceneObject's declarations, which post `ObjectsPanel.Changed` with the whole new list."""
+SceneObject's declarations, which post `ObjectsPanel.Changed` with the whole new list; and its
+[[pins]] (pins_panel.PinsPanel), likewise."""
 
 from __future__ import annotations
 
 import dataclasses
 import re
+import tomllib
 from typing import Any
 
 from textual.app import ComposeResult
@@ -53,8 +55,10 @@ def format_value(value: Any) -> str:
     if isinstance(value, float):
         text = repr(value)
         return text[:-2] if text.endswith(".0") else text  # "1", not "1.0"
+    if isinstance(value, list) and any(isinstance(v, list) for v in value):
+        return "[" + ", ".join(f"[{format_value(v)}]" for v in value) + "]"  # pin `at`, keys
     if isinstance(value, list):
-        return ", ".join(format_value(float(v)) for v in value)
+        return ", ".join(format_value(v if isinstance(v, int) else float(v)) for v in value)
     return str(value)
 
 
@@ -66,6 +70,11 @@ def parse_text(dotted: str, text: str, spec: dataclasses.Field | None = None) ->
     kind = f.metadata["kind"]
     t = value_type(f)
     text = text.strip()
+    if kind == "toml":  # a pin group's rows, cols, at, keys: "0, -1" or "[[0, 0], [0, 5]]"
+        try:
+            return tomllib.loads(f"v = {text if text.startswith('[') else f'[{text}]'}")["v"]
+        except (tomllib.TOMLDecodeError, RecursionError, ValueError):
+            return text
     if kind.startswith("vec3"):
         parts = [p for p in re.split(r"[,\s]+", text.strip("[]() ")) if p]
         try:
@@ -317,6 +326,7 @@ class Controls(VerticalScroll):
         self._scene = scene
 
     def compose(self) -> ComposeResult:
+        from .pins_panel import PinsPanel  # here: it builds on SettingField, defined above
         for dotted in keys_in("top"):
             yield SettingField(dotted, self._scene.get(dotted))
         with Horizontal(id="buttons"):
@@ -330,6 +340,7 @@ class Controls(VerticalScroll):
                     yield SettingField(dotted, self._scene.get(dotted))
                 if group == "Scene":
                     yield ObjectsPanel(self._scene.objects, id="objects")
+                    yield PinsPanel(self._scene.pins, id="pins")
 
     def on_button_pressed(self, event: Button.Pressed) -> None:
         event.stop()
@@ -337,11 +348,13 @@ class Controls(VerticalScroll):
 
     def show_scene(self, scene: Scene) -> None:
         """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
+        from .pins_panel import PinsPanel
         self._scene = scene
         for field in self.query(SettingField):
-            if not field.dotted.startswith("objects."):
+            if not field.dotted.startswith(("objects.", "pins.")):
                 field.show(scene.get(field.dotted))
         self.query_one(ObjectsPanel).show_objects(scene.objects)
+        self.query_one(PinsPanel).show_pins(scene.pins)
 
 
 def all_panel_keys() -> list[str]:

@@ -192,7 +192,12 @@ class Preview(Widget):
             self.width_px, self.height_px = width_px, height_px
 
     class Release(Message):
-        """Mouse released after a grab."""
+        """Mouse released after a grab; `pin`: Ctrl was held when it was pressed or released
+        (the pin gesture: hold the particle there)."""
+
+        def __init__(self, pin: bool = False) -> None:
+            super().__init__()
+            self.pin = pin
 
     class Cut(Message):
         """Right-drag (the knife) at image point (u, v); `start`: the drag begins here."""
@@ -214,6 +219,7 @@ class Preview(Widget):
         self.crosshair: tuple[float, float] = (0.5, 0.5)
         self.frames_shown = 0
         self._drag_from: tuple[float, float] | None = None
+        self._pinning = False  # the grab began with Ctrl held
         self._cutting = False  # the right button is down: moves cut instead of drag
         self._placeholder = "waiting for the renderer…"  # shown, centred, until an image
 
@@ -313,6 +319,7 @@ class Preview(Widget):
             self.post_message(self.Cut(*self.pointer, start=True))
             return
         self.pointer = self._drag_from = self._uv(event)
+        self._pinning = event.ctrl
         self.capture_mouse()
         self.post_message(self.Grab(*self.pointer))
 
@@ -323,4 +330,4 @@ class Preview(Widget):
         if self._drag_from is not None:
             self._drag_from = None
             self.release_mouse()
-            self.post_message(self.Release())
+            self.post_message(self.Release(pin=self._pinning or event.ctrl))

@@ -8,9 +8,11 @@ import time
 from collections import deque
 from typing import Any, Callable
 
-from ..scene import Scene
+from ..scene import Scene, SceneError
+from ..sim.pins import grid_shape
 from ..sim.sim_thread import SimulationThread
 from .bindings import BUMP_M, ORBIT_DEG, VIEW_SPAN, ZOOM_STEP
+from .messages import PinResult
 from .preview import Preview
 
 RECENT_VIEW_S = 3.0  # view keys this recent are told of when a digit shows typing was meant
@@ -23,15 +25,33 @@ def typed_digit_notice(digit: str, recent: list[str]) -> str:
             f"value.{done} Press o to reset the view.")
 
 
+def pin_where_it_is(particle: int, post: Callable[[PinResult], Any]) -> Callable[[Any], None]:
+    """The pin gesture's command for the simulation thread: hold `particle` where the drag
+    left it, and post what came of it."""
+    def command(sim) -> None:
+        where = sim.state.x[particle].copy()
+        try:
+            sim.pin(particle, where)
+        except SceneError as e:
+            post(PinResult(str(e), ok=False))
+            return
+        r, c = divmod(particle, grid_shape(sim.model)[1])
+        at = ", ".join(f"{v:.3g}" for v in where)
+        post(PinResult(f"particle [{r}, {c}] held at ({at}) m; r restores the scene's pins",
+                       ok=True))
+    return command
+
+
 class ViewActions:
-    """Needs from the app: `scene`, `sim`, `renderer` (or None), `preview`, `notify` and
-    `_log_key`; keeps `_zoom`, `_grabbed` and `_cut_at` (the knife)."""
+    """Needs from the app: `scene`, `sim`, `renderer` (or None), `preview`, `notify`,
+    `post_message` and `_log_key`; keeps `_zoom`, `_grabbed` and `_cut_at` (the knife)."""
 
     scene: Scene
     sim: SimulationThread | None
     renderer: Any
     preview: Preview
     notify: Callable[..., None]
+    post_message: Callable[..., Any]
     _log_key: Callable[[str], None]
     _zoom: float
     _grabbed: int | None
@@ -83,8 +103,15 @@ class ViewActions:
             d = (message.du * span * aspect, -message.dv * span, 0.0)
         self._bump(self._grabbed, d)
 
-    def on_preview_release(self, _: Preview.Release) -> None:
+    def on_preview_release(self, message: Preview.Release) -> None:
+        if message.pin and self._grabbed is not None and self.sim is not None:
+            self.sim.submit(pin_where_it_is(self._grabbed, self.post_message))
         self._grabbed = None
+
+    def on_pin_result(self, message: PinResult) -> None:
+        self.notify(message.text, title="Pinned" if message.ok else "Pin refused",
+                    severity="information" if message.ok else "error",
+                    timeout=4 if message.ok else 8)
 
     def on_preview_cut(self, message: Preview.Cut) -> None:
         """Cut the cloth from the particle the knife last passed to the one under it now
@@ -111,6 +138,16 @@ class ViewActions:
             return
         self._bump(particle, (dx * BUMP_M, dy * BUMP_M, dz * BUMP_M))
         self._log_key("bump")
+
+    def action_pin(self) -> None:
+        """The pin gesture from the keyboard, for terminals that do not report Ctrl with the
+        mouse: the particle under the pointer or crosshair, where it is."""
+        particle = self.renderer.pick(*self.preview.target) if self.renderer else None
+        if particle is None:
+            self.notify("No particle under the pointer or crosshair to pin", severity="warning",
+                        timeout=1.5)
+        elif self.sim is not None:
+            self.sim.submit(pin_where_it_is(particle, self.post_message))
 
     def action_crosshair(self, dcol: int, drow: int) -> None:
         self.preview.move_crosshair(dcol, drow)

@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 from textual.widgets import Collapsible
 
+from cloth_tui.scene_files import load
 from cloth_tui.tui.status import RateMeter
 
 from .conftest import SIZE, make_app, run, until
@@ -67,6 +68,28 @@ def test_screens_match_baselines(tmp_path, monkeypatch):
                 await shot(f"panel-{name}")
             await pilot.press("c")
             await shot("controls-hidden")
+
+    run(go())
+    problems = [p for p in problems if p]
+    if problems:
+        pytest.fail("\n".join(problems))
+
+
+def test_pin_groups_listed_match_baseline(tmp_path, monkeypatch):
+    """The Scene group scrolled to its pin groups (the curtain's six hooks), one opened."""
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 0.0)
+    problems = []
+
+    async def go():
+        app = make_app(tmp_path, load("curtain"))
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 1 and app._crosshair_placed)
+            for c in app.query(Collapsible):
+                c.collapsed = c.id not in ("group-scene", "pins-1")
+            await pilot.pause(0.1)
+            app.query_one("#pins-1").scroll_visible(animate=False, top=True)
+            await pilot.pause(0.5)
+            await shots(app, pilot, problems)("panel-pins")
 
     run(go())
     problems = [p for p in problems if p]
