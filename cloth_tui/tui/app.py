@@ -34,6 +34,7 @@ from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
 from .commands import SceneCommands
+from .field_keys import FieldKeys
 from .graphics.detect import Graphics
 from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
@@ -60,7 +61,7 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(ViewActions, CaptureActions, PanelActions, App):
+class ClothApp(FieldKeys, ViewActions, CaptureActions, PanelActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
