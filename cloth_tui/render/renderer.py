@@ -35,6 +35,8 @@ FIT_ASPECT = 1.0           # views narrower than this move the camera back so th
 MIN_CELL_PX = 2.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
+MAX_ELEVATION = 85.0       # degrees up or down: nearer the vertical the view-up flips
+ABOVE_FLOOR = 0.05         # m for a 1 m sheet: the lowest the camera goes above the floor
 
 
 def check_size(w, h) -> tuple[int, int]:
@@ -280,8 +282,20 @@ class Renderer:
 
     def orbit(self, d_azimuth: float, d_elevation: float) -> None:
         self.azimuth = (self.azimuth + float(d_azimuth)) % 360.0
-        self.elevation = float(np.clip(self.elevation + float(d_elevation), -85.0, 85.0))
+        self.elevation = float(np.clip(self.elevation + float(d_elevation),
+                                       -MAX_ELEVATION, MAX_ELEVATION))
         self._apply_camera()
+
+    def lowest_elevation(self, distance: float) -> float:
+        """Degrees: the camera at this distance stays a little above the floor (from
+        below, the ground hides the cloth and the picture turns upside down)."""
+        c, s = self._scene.cloth, self._scene.scene
+        if not s.floor:
+            return -MAX_ELEVATION
+        lowest_y = s.floor_height + ABOVE_FLOOR * max(c.size, 0.25)
+        sine = (lowest_y - self.target[1]) / max(distance, 1e-9)
+        return float(np.clip(math.degrees(math.asin(np.clip(sine, -1.0, 1.0))),
+                             -MAX_ELEVATION, MAX_ELEVATION))
 
     def zoom(self, factor: float) -> None:
         """factor > 1 moves closer."""
@@ -297,8 +311,10 @@ class Renderer:
         return self.distance * max(1.0, FIT_ASPECT * h / w)
 
     def _apply_camera(self) -> None:
-        az, el = math.radians(self.azimuth), math.radians(self.elevation)
         distance = self.view_distance()
+        # Zooming out (or a higher floor) can take a low camera under the floor, too.
+        self.elevation = max(self.elevation, self.lowest_elevation(distance))
+        az, el = math.radians(self.azimuth), math.radians(self.elevation)
         offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
                                       math.cos(el) * math.cos(az)])
         # VTK's own setters: PyVista's position setter also resets the clipping range from
