@@ -24,6 +24,7 @@ from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .shadow import Shadow
 from .textures import load_texture_image
+from .wire import wire_edges, wire_look
 from .vtk_setup import pyvista_quiet
 
 VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
@@ -168,6 +169,7 @@ class Renderer:
         self.cloth = pv.PolyData()  # points alone: PolyData(points) would add a vertex each
         self.cloth.points = positions.astype(np.float32)
         self._model, self._faces_for, self._tri_constraints = model, None, None
+        self._wire_for = None  # (WireLook, torn count) the wire's lines are drawn for
         self.cloth.active_texture_coordinates = grid_uv(model.n)
         self.cloth.point_data["Normals"] = np.zeros(positions.shape, np.float32)  # _update_cloth
         self.cloth.point_data.active_normals_name = "Normals"
@@ -191,15 +193,24 @@ class Renderer:
         """The one place the sheet's drawn triangles are chosen: the model's own; at stride > 1
         those of every stride-th row and column (see _detail_stride); on a torn sheet, only
         the triangles whose three constraints all hold, so a tear shows as a gap (drawn at
-        stride 1: thinned rows would bridge it). The wireframe draws the drawn triangles'
-        edges at stride 1, and the constraint lines lose the torn ones. Rebuilt only when
-        the stride or the torn count changes; all particles stay in the points (picking and
-        the lines use them)."""
+        stride 1: thinned rows would bridge it). The wireframe draws the edges of the drawn
+        triangles at stride 1 that wire.py picks for the picture's size, and the constraint
+        lines lose the torn ones. Rebuilt only when the stride, the wires or the torn count
+        change; all particles stay in the points (picking and the lines use them)."""
         model, alive = self._model, snapshot.alive
         torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
         stride = 1 if torn else self._detail_stride()
-        if self._faces_for == (stride, torn):
-            return
+        if self._faces_for != (stride, torn):
+            self._set_triangles(stride, torn, alive)
+        look = wire_look(self._cell_px()) if self._scene.appearance.wireframe else None
+        if look is not None and self._wire_for != (look, torn):
+            self._wire_for = (look, torn)
+            edges = wire_edges(self._edges, model.n, look)
+            self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+            self.wire_actor.prop.line_width = look.width
+
+    def _set_triangles(self, stride: int, torn: int, alive) -> None:
+        model = self._model
         torn_changed = self._faces_for is None or self._faces_for[1] != torn
         self._faces_for = (stride, torn)
         if torn:
@@ -214,8 +225,8 @@ class Renderer:
         self._tri = tri
         if torn_changed:
             whole = tri if stride == 1 else np.asarray(model.triangles, dtype=np.int64)
-            edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
-            self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+            self._edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
+            self._wire_for = None
             self._set_lines(alive.astype(bool) if torn else
                             np.ones(model.num_constraints, bool))
 
@@ -235,9 +246,12 @@ class Renderer:
         wide, hardly shows. The wireframe is always drawn whole: it shows the mesh itself."""
         if self._scene.appearance.wireframe or self._model.n < 3:
             return 1
+        return max(1, math.ceil(MIN_CELL_PX / max(self._cell_px(), 1e-9)))
+
+    def _cell_px(self) -> float:
+        """How wide a grid cell of the sheet is on screen, at the camera's distance."""
         half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
-        cell_px = self._model.spacing * self.size[1] / (2.0 * half_height_m)
-        return max(1, math.ceil(MIN_CELL_PX / max(cell_px, 1e-9)))
+        return self._model.spacing * self.size[1] / (2.0 * half_height_m)
 
     def _shared_lines(self):
         mesh = self.pv.PolyData()
