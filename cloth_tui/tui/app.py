@@ -43,7 +43,7 @@ from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
 from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
-from .status import Readout, StatusBar
+from .status import Readout, StatusBar, cells
 from .view_actions import ViewActions
 
 RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
@@ -347,14 +347,15 @@ class ClothApp(FieldKeys, ViewActions, CaptureActions, PanelActions, App):
         b = self.scene.behavior
         recording = bool(self.renderer is not None and self.renderer.recording)
         paused = bool(self.sim is not None and self.sim.paused)
-        text = self.readout.text(paused=paused, recording=recording,
-                                 iterations=b.iterations, substeps=b.substeps,
-                                 compact=self.size.width < WIDE_FROM)
+        marks = self.bake.status(("", ""))[0]  # "● USD 12 · " while baking
         if self._no_preview is not None:
-            text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
-        text = self.bake.status(text)
+            marks += "[b white on red] no preview [/] · "
         for bar in self.query(StatusBar):  # none while the app is closing
-            bar.show(text, self.readout.ms_history)
+            width = bar.content_size.width or self.size.width - 2
+            state, cost = self.readout.text(paused=paused, recording=recording,
+                                            iterations=b.iterations, substeps=b.substeps,
+                                            width=width - cells(marks))
+            bar.show((marks + state, cost), self.readout.ms_history)
 
     def shutdown(self) -> None:
         """Stop both threads (the renderer finishes a running video); at most ~1.5 s."""
