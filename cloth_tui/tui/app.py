@@ -33,7 +33,7 @@ from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
-from .commands import SceneCommands
+from .commands import SceneCommands, with_own_screenshot
 from .field_keys import FieldKeys
 from .graphics.detect import Graphics
 from .help import HelpScreen
@@ -296,6 +296,9 @@ class ClothApp(FieldKeys, ViewActions, CaptureActions, PanelActions, App):
         if action in CONTROL_KEYS_ACTIONS and self.focused is not None:
             return False  # space toggles the focused switch, presses the focused button
         return True
+
+    def get_system_commands(self, screen):
+        return with_own_screenshot(super().get_system_commands(screen), self.action_screenshot)
 
     def _log_key(self, what: str) -> None:
         if self._debug is not None:
