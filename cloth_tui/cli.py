@@ -170,8 +170,11 @@ def cmd_simulate(args) -> int:
         check_output_path(Path(args.dump), (".npz",))
     from .sim.runner import Simulation
 
+    from .compile_notice import CompileNotice
+
     sim = Simulation(scene)
-    sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
+    with CompileNotice(sys.stderr, sys.stderr.isatty()):
+        sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
     sim.reset()
     for _ in range(args.frames):
         sim.advance_frame()
