@@ -34,7 +34,7 @@ from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
 from .commands import SceneCommands, with_own_screenshot
-from .field_keys import FieldKeys
+from .key_order import KeyOrder
 from .graphics.detect import Graphics
 from .help import HelpScreen
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
@@ -61,7 +61,7 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(FieldKeys, ViewActions, CaptureActions, PanelActions, App):
+class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field

@@ -22,8 +22,8 @@ NARROW_CLASS = "-narrow"
 
 class PanelActions:
     """Needs from the app: `scene`, `set_value`, `apply_scene`, `action_restart`, `notify`,
-    `recent_view_keys`, `release_keys` (field_keys.py), and Textual's `screen`, `focused`, `query_one`, `push_screen` and
-    `pop_screen`."""
+    `recent_view_keys`, `release_keys` (key_order.py), and Textual's `screen`, `focused`,
+    `query_one`, `push_screen` and `pop_screen`."""
 
     scene: Scene
     set_value: Callable[[str, Any], bool]

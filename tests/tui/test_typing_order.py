@@ -119,3 +119,18 @@ def test_an_object_radius_typed_over_takes_the_new_value(tmp_path, busy_gil):
             await until(pilot, lambda: sim_scene(app).objects[0].radius == 0.31, timeout=10,
                         what="radius 0.31")
     run(go())
+
+
+def test_tab_then_typing_goes_to_the_field_tab_reached(tmp_path, busy_gil):
+    """From no focus, the first Tab reaches the controls' scroll area, the second the first
+    field: what is typed after them is that field's."""
+    async def go():
+        app = _busy_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.sim.latest is not None and app.sim.latest.frame > 2,
+                        what="simulation running")
+            assert app.focused is None
+            burst(app, "tab", "tab", "end", "backspace", "3")
+            await _shows(pilot, _field(app, "cloth.size"), "3")
+            assert app.focused is _field(app, "cloth.size")
+    run(go())
