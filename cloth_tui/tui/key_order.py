@@ -26,9 +26,10 @@ from textual.widgets import Input
 
 from .panels import SettingField
 
-# s: keys typed after Enter wait at most this long for the app to settle the value (it
-# answers within a few frames; the bound only keeps a lost answer from holding keys forever).
-HOLD_AT_MOST_S = 1.0
+# s: keys typed after Enter wait at most this long for the app to settle the value. It answers
+# within a few frames, but 1 s was seen to pass at start-up on a loaded machine (the keys then
+# went to the field being left); the bound only keeps a lost answer from holding keys forever.
+HOLD_AT_MOST_S = 5.0
 
 
 class KeyOrder:
