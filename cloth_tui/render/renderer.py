@@ -24,7 +24,7 @@ from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .shadow import Shadow
 from .textures import load_texture_image
-from .wire import wire_edges, wire_look
+from .wire import grid_gaps_px, wire_edges, wire_look
 from .vtk_setup import pyvista_quiet
 
 VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
@@ -202,12 +202,20 @@ class Renderer:
         stride = 1 if torn else self._detail_stride()
         if self._faces_for != (stride, torn):
             self._set_triangles(stride, torn, alive)
-        look = wire_look(self._cell_px()) if self._scene.appearance.wireframe else None
+        look = self._wire_look() if self._scene.appearance.wireframe else None
         if look is not None and self._wire_for != (look, torn):
             self._wire_for = (look, torn)
             edges = wire_edges(self._edges, model.n, look)
             self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
             self.wire_actor.prop.line_width = look.width
+
+    def _wire_look(self):
+        """From the last frame's grid as drawn; before one, the grid seen face-on."""
+        gaps = None
+        if self._pick_state is not None:
+            matrix, positions = self._pick_state
+            gaps = grid_gaps_px(matrix, positions, self._model.n, self.size)
+        return wire_look(*(gaps or (self._cell_px(),) * 2))
 
     def _set_triangles(self, stride: int, torn: int, alive) -> None:
         model = self._model

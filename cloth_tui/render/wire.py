@@ -1,9 +1,11 @@
 """Which of the sheet's edges the wireframe draws, and how thick, for the size its grid cells
 have on screen. Every edge (the diagonals too) at 1 px needs cells of WIRE_MESH_CELL_PX: in a
-smaller picture (the terminal preview, ~228×184, where a 26² sheet's cells are ~4.6 px) the
-lines and the gaps between them blur into a solid sheet with pinholes. There the wireframe is
-the grid's own lines, every stride-th row and column, 2 px wide and at least WIRE_CELL_PX
-apart, so it still reads as wires once the terminal halves the picture again."""
+smaller picture (the terminal preview, ~228×184, where a 26² sheet's cells are ~4.6 px, and
+half that across a sheet seen at a slant) the lines and the gaps between them blur into a
+solid sheet with pinholes. There the wireframe is the grid's own lines, every k-th row and
+every m-th column, 2 px wide and at least WIRE_CELL_PX apart on screen, so it still reads as
+wires once the terminal halves the picture again. Rows and columns are spaced apart
+separately: a sheet seen from the side foreshortens one of them only."""
 
 from __future__ import annotations
 
@@ -14,22 +16,45 @@ import numpy as np
 
 from ..sim.surface import thinned_rows
 
-WIRE_MESH_CELL_PX = 10.0  # cells at least this wide: the whole mesh, 1 px lines
+WIRE_MESH_CELL_PX = 10.0  # cells at least this wide each way: the whole mesh, 1 px lines
 WIRE_CELL_PX = 8.0        # else: drawn grid lines at least this far apart…
 WIRE_THICK_PX = 2.0       # …and this wide
 
 
 class WireLook(NamedTuple):
-    stride: int        # grid rows (and columns) between drawn lines
-    diagonals: bool    # the triangles' diagonals too (the whole mesh)
-    width: float       # px
+    row_stride: int     # grid rows between drawn row lines
+    column_stride: int  # grid columns between drawn column lines
+    diagonals: bool     # the triangles' diagonals too (the whole mesh)
+    width: float        # px
 
 
-def wire_look(cell_px: float) -> WireLook:
-    if cell_px >= WIRE_MESH_CELL_PX:
-        return WireLook(1, True, 1.0)
-    return WireLook(max(1, math.ceil(WIRE_CELL_PX / max(cell_px, 1e-9))), False,
-                    WIRE_THICK_PX)
+def _stride(px: float) -> int:
+    return max(1, math.ceil(WIRE_CELL_PX / max(px, 1e-9)))
+
+
+def wire_look(row_gap_px: float, column_gap_px: float) -> WireLook:
+    """For grid rows `row_gap_px` apart on screen and columns `column_gap_px` apart."""
+    if min(row_gap_px, column_gap_px) >= WIRE_MESH_CELL_PX:
+        return WireLook(1, 1, True, 1.0)
+    return WireLook(_stride(row_gap_px), _stride(column_gap_px), False, WIRE_THICK_PX)
+
+
+def grid_gaps_px(matrix: np.ndarray, positions: np.ndarray, n: int,
+                 size: tuple[int, int]) -> tuple[float, float] | None:
+    """How far apart neighbouring rows and neighbouring columns of an n×n sheet are drawn
+    (the median over the sheet, in pixels), given the world → clip `matrix` of a render of
+    `size`; None if the sheet is behind the camera."""
+    if n < 2 or len(positions) != n * n:
+        return None
+    h = np.c_[positions, np.ones(len(positions))] @ matrix.T
+    if not (h[:, 3] > 1e-9).all():
+        return None
+    xy = h[:, :2] / h[:, 3:4] * (0.5 * np.asarray(size, float))  # NDC → pixels
+    grid = xy.reshape(n, n, 2)
+    row_gap = np.linalg.norm(grid[1:, :] - grid[:-1, :], axis=2)      # row i to row i+1
+    column_gap = np.linalg.norm(grid[:, 1:] - grid[:, :-1], axis=2)   # column j to j+1
+    gaps = float(np.median(row_gap)), float(np.median(column_gap))
+    return gaps if all(math.isfinite(g) for g in gaps) else None
 
 
 def wire_edges(edges: np.ndarray, n: int, look: WireLook) -> np.ndarray:
@@ -40,8 +65,10 @@ def wire_edges(edges: np.ndarray, n: int, look: WireLook) -> np.ndarray:
         return edges
     a, b = edges[:, 0], edges[:, 1]
     row_a, col_a, row_b, col_b = a // n, a % n, b // n, b % n
-    kept = np.zeros(n, bool)
-    kept[thinned_rows(n, look.stride)] = True
-    along_row = (row_a == row_b) & kept[row_a]
-    along_column = (col_a == col_b) & kept[col_a]
+    kept_rows = np.zeros(n, bool)
+    kept_rows[thinned_rows(n, look.row_stride)] = True
+    kept_columns = np.zeros(n, bool)
+    kept_columns[thinned_rows(n, look.column_stride)] = True
+    along_row = (row_a == row_b) & kept_rows[row_a]
+    along_column = (col_a == col_b) & kept_columns[col_a]
     return edges[along_row | along_column]

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.render.geometry import triangle_edges
-from cloth_tui.render.wire import WIRE_MESH_CELL_PX, wire_edges, wire_look
+from cloth_tui.render.wire import WIRE_MESH_CELL_PX, grid_gaps_px, wire_edges, wire_look
 from cloth_tui.sim.surface import grid_cell_triangles
 
 from .helpers import draped, red_pixels, scene_with
@@ -44,15 +44,26 @@ def test_the_wireframe_shows_through_at_the_preview_size(renderer, resolution):
 def test_large_cells_draw_the_whole_mesh_small_ones_spaced_grid_lines():
     n = 6
     edges = triangle_edges(grid_cell_triangles(n, np.arange(n)))
-    assert len(wire_edges(edges, n, wire_look(WIRE_MESH_CELL_PX))) == len(edges)
-    look = wire_look(2.0)  # 2 px cells: every 4th row and column, 2 px wide
-    assert (look.stride, look.diagonals, look.width) == (4, False, 2.0)
+    assert len(wire_edges(edges, n, wire_look(WIRE_MESH_CELL_PX, WIRE_MESH_CELL_PX))) == \
+        len(edges)
+    look = wire_look(2.0, 8.0)  # rows 2 px apart, columns 8: every 4th row, every column
+    assert look == (4, 1, False, 2.0)
     drawn = wire_edges(edges, n, look)
     rows, cols = drawn // n, drawn % n
     along_row = rows[:, 0] == rows[:, 1]
     assert set(rows[along_row, 0]) == {0, 4, 5}  # kept rows, the last one always
-    assert set(cols[~along_row, 0]) == {0, 4, 5} and (cols[~along_row, 0] ==
-                                                     cols[~along_row, 1]).all()
-    assert len(drawn) == 2 * 3 * (n - 1)
+    assert set(cols[~along_row, 0]) == set(range(n))
+    assert (cols[~along_row, 0] == cols[~along_row, 1]).all()  # no diagonals
+    assert len(drawn) == 3 * (n - 1) + n * (n - 1)
     torn = edges[~((edges[:, 0] == 0) & (edges[:, 1] == 1))]  # a tear on the first row
     assert len(wire_edges(torn, n, look)) == len(drawn) - 1
+
+
+def test_grid_gaps_are_measured_on_screen():
+    n = 3
+    x, z = np.meshgrid(np.arange(n, dtype=float), np.arange(n, dtype=float))
+    positions = np.c_[x.ravel(), np.zeros(n * n), z.ravel()]  # row = z, column = x
+    matrix = np.diag([0.1, 1.0, 0.05, 1.0])  # x → 0.1 NDC per metre, z → 0.05
+    rows_px, columns_px = grid_gaps_px(matrix, positions, n, (200, 100))
+    assert rows_px == 0.0 and columns_px == 10.0  # z does not show on screen: rows collapse
+    assert wire_look(rows_px, columns_px).row_stride > 1000
