@@ -168,9 +168,8 @@ def cmd_simulate(args) -> int:
     scene = apply_overrides(load(args.scene), args.overrides)
     if args.dump:
         check_output_path(Path(args.dump), (".npz",))
-    from .sim.runner import Simulation
-
     from .compile_notice import CompileNotice
+    from .sim.runner import Simulation
 
     sim = Simulation(scene)
     with CompileNotice(sys.stderr, sys.stderr.isatty()):

@@ -24,8 +24,8 @@ from .probe import require_renderer
 from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .shadow import Shadow
 from .textures import load_texture_image
-from .wire import grid_gaps_px, wire_edges, wire_look
 from .vtk_setup import pyvista_quiet
+from .wire import grid_gaps_px, wire_edges, wire_look
 
 VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
 HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), seen from the side

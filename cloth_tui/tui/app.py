@@ -34,9 +34,9 @@ from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
 from .commands import SceneCommands, with_own_screenshot
-from .key_order import KeyOrder
 from .graphics.detect import Graphics
 from .help import HelpScreen
+from .key_order import KeyOrder
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions

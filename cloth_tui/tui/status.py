@@ -147,7 +147,7 @@ class Readout:
         e, de = s.get("energy", 0.0), self.drift
         energy = Part((f"E {e:+.3f} J  ΔE since restart {de:+.3f} J", f"E {e:+.4g} J ΔE "
                        f"{de:+.4g} J", f"ΔE {de:+.4g} J"), 0)
-        marks = []  # what went wrong or is unusual: never shortened
+        marks = []  # tears, the constraint error, recoveries: shown at every width
         if s.get("torn"):
             marks.append(Part((f"[b]{s['torn']} torn[/]",), 9))
         residual = s.get("constraint_error")
