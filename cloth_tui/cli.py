@@ -180,10 +180,12 @@ def cmd_simulate(args) -> int:
     scene = apply_overrides(load(args.scene), args.overrides)
     if args.dump:
         check_output_path(Path(args.dump), (".npz",))
+    from .compile_notice import CompileNotice
     from .sim.runner import Simulation
 
     sim = Simulation(scene)
-    sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
+    with CompileNotice(sys.stderr, sys.stderr.isatty()):
+        sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
     sim.reset()
     for _ in range(args.frames):
         sim.advance_frame()

@@ -12,6 +12,7 @@ import re
 import sys
 from pathlib import Path
 
+from ..compile_notice import CompileNotice
 from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
 from ..io.usd_bake import USD_SUFFIXES
@@ -88,9 +89,12 @@ def run_render(args) -> int:
     video = None
     done = 0
     try:
-        with _Interrupt() as interrupt:
+        with _Interrupt() as interrupt, CompileNotice(sys.stderr, progress.enabled) as notice:
             if kind != ".png":
                 video = VideoWriter(out, fps, size)
+            # The drawing's kernels compile here (the camera kept), the simulation's in the
+            # first frame: a first run's compiling is over before the progress bar starts.
+            renderer.render(sim.snapshot(), auto_rotate_deg=0.0)
             for done in range(1, frames + 1):
                 if interrupt.signum is not None:
                     done -= 1
@@ -98,6 +102,7 @@ def run_render(args) -> int:
                 sim.advance_frame()
                 if video is not None:
                     video.write(renderer.render(sim.snapshot()))
+                notice.finish()  # the first frame compiled what a frame needs
                 progress.show(done)
             if kind == ".png" and interrupt.signum is None:
                 save_png(renderer.render(sim.snapshot()), out)

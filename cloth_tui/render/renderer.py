@@ -26,6 +26,7 @@ from .props import GROUND_RADIUS, Ground, Objects, Poles
 from .shadow import Shadow
 from .textures import load_texture_image
 from .vtk_setup import pyvista_quiet
+from .wire import grid_gaps_px, wire_edges, wire_look
 
 VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
 HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), seen from the side
@@ -36,6 +37,8 @@ FIT_ASPECT = 1.0           # views narrower than this move the camera back so th
 MIN_CELL_PX = 2.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
+MAX_ELEVATION = 85.0       # degrees up or down: nearer the vertical the view-up flips
+ABOVE_FLOOR = 0.05         # m for a 1 m sheet: the lowest the camera goes above the floor
 
 
 def check_size(w, h) -> tuple[int, int]:
@@ -169,6 +172,7 @@ class Renderer:
         self.cloth = pv.PolyData()  # points alone: PolyData(points) would add a vertex each
         self.cloth.points = positions.astype(np.float32)
         self._model, self._faces_for, self._tri_constraints = model, None, None
+        self._wire_for = None  # (WireLook, torn count) the wire's lines are drawn for
         self.cloth.active_texture_coordinates = grid_uv(model.nx, model.nz, model.width,
                                                         model.length)
         self.cloth.point_data["Normals"] = np.zeros(positions.shape, np.float32)  # _update_cloth
@@ -193,15 +197,32 @@ class Renderer:
         """The one place the sheet's drawn triangles are chosen: the model's own; at stride > 1
         those of every stride-th row and column (see _detail_stride); on a torn sheet, only
         the triangles whose three constraints all hold, so a tear shows as a gap (drawn at
-        stride 1: thinned rows would bridge it). The wireframe draws the drawn triangles'
-        edges at stride 1, and the constraint lines lose the torn ones. Rebuilt only when
-        the stride or the torn count changes; all particles stay in the points (picking and
-        the lines use them)."""
+        stride 1: thinned rows would bridge it). The wireframe draws the edges of the drawn
+        triangles at stride 1 that wire.py picks for the picture's size, and the constraint
+        lines lose the torn ones. Rebuilt only when the stride, the wires or the torn count
+        change; all particles stay in the points (picking and the lines use them)."""
         model, alive = self._model, snapshot.alive
         torn = 0 if alive is None else int(alive.size - np.count_nonzero(alive))
         stride = (1, 1) if torn else self._detail_stride()
-        if self._faces_for == (stride, torn):
-            return
+        if self._faces_for != (stride, torn):
+            self._set_triangles(stride, torn, alive)
+        look = self._wire_look() if self._scene.appearance.wireframe else None
+        if look is not None and self._wire_for != (look, torn):
+            self._wire_for = (look, torn)
+            edges = wire_edges(self._edges, model.shape, look)
+            self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+            self.wire_actor.prop.line_width = look.width
+
+    def _wire_look(self):
+        """From the last frame's grid as drawn; before one, the grid seen face-on."""
+        gaps = None
+        if self._pick_state is not None:
+            matrix, positions = self._pick_state
+            gaps = grid_gaps_px(matrix, positions, self._model.shape, self.size)
+        return wire_look(*(gaps or (self._cell_px(),) * 2))
+
+    def _set_triangles(self, stride: tuple[int, int], torn: int, alive) -> None:
+        model = self._model
         torn_changed = self._faces_for is None or self._faces_for[1] != torn
         self._faces_for = (stride, torn)
         if torn:
@@ -217,8 +238,8 @@ class Renderer:
         self._tri = tri
         if torn_changed:
             whole = tri if stride == (1, 1) else np.asarray(model.triangles, dtype=np.int64)
-            edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
-            self.wire.lines = np.c_[np.full(len(edges), 2, np.int64), edges].ravel()
+            self._edges = triangle_edges(whole) if len(whole) else np.zeros((0, 2), np.int64)
+            self._wire_for = None
             self._set_lines(alive.astype(bool) if torn else
                             np.ones(model.num_constraints, bool))
 
@@ -245,6 +266,11 @@ class Renderer:
         px_per_m = self.size[1] / (2.0 * half_height_m)
         return tuple(1 if count < 3 else max(1, math.ceil(MIN_CELL_PX / max(h * px_per_m, 1e-9)))
                      for count, h in ((m.nz, m.spacing_z), (m.nx, m.spacing_x)))
+
+    def _cell_px(self) -> float:
+        """How wide a grid cell of the sheet is on screen, at the camera's distance."""
+        half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
+        return self._model.spacing * self.size[1] / (2.0 * half_height_m)
 
     def _shared_lines(self):
         mesh = self.pv.PolyData()
@@ -290,8 +316,20 @@ class Renderer:
 
     def orbit(self, d_azimuth: float, d_elevation: float) -> None:
         self.azimuth = (self.azimuth + float(d_azimuth)) % 360.0
-        self.elevation = float(np.clip(self.elevation + float(d_elevation), -85.0, 85.0))
+        self.elevation = float(np.clip(self.elevation + float(d_elevation),
+                                       -MAX_ELEVATION, MAX_ELEVATION))
         self._apply_camera()
+
+    def lowest_elevation(self, distance: float) -> float:
+        """Degrees: the camera at this distance stays a little above the floor (from
+        below, the ground hides the cloth and the picture turns upside down)."""
+        c, s = self._scene.cloth, self._scene.scene
+        if not s.floor:
+            return -MAX_ELEVATION
+        lowest_y = s.floor_height + ABOVE_FLOOR * max(c.size, 0.25)
+        sine = (lowest_y - self.target[1]) / max(distance, 1e-9)
+        return float(np.clip(math.degrees(math.asin(np.clip(sine, -1.0, 1.0))),
+                             -MAX_ELEVATION, MAX_ELEVATION))
 
     def zoom(self, factor: float) -> None:
         """factor > 1 moves closer."""
@@ -307,8 +345,10 @@ class Renderer:
         return self.distance * max(1.0, FIT_ASPECT * h / w)
 
     def _apply_camera(self) -> None:
-        az, el = math.radians(self.azimuth), math.radians(self.elevation)
         distance = self.view_distance()
+        # Zooming out (or a higher floor) can take a low camera under the floor, too.
+        self.elevation = max(self.elevation, self.lowest_elevation(distance))
+        az, el = math.radians(self.azimuth), math.radians(self.elevation)
         offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
                                       math.cos(el) * math.cos(az)])
         # VTK's own setters: PyVista's position setter also resets the clipping range from

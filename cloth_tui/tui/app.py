@@ -33,16 +33,17 @@ from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
-from .commands import SceneCommands
+from .commands import SceneCommands, with_own_screenshot
 from .graphics.detect import Graphics
 from .help import HelpScreen
+from .key_order import KeyOrder
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
 from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
 from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
-from .status import Readout, StatusBar
+from .status import Readout, StatusBar, cells
 from .view_actions import ViewActions
 
 RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
@@ -60,7 +61,7 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(ViewActions, CaptureActions, PanelActions, App):
+class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
@@ -296,6 +297,9 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
             return False  # space toggles the focused switch, presses the focused button
         return True
 
+    def get_system_commands(self, screen):
+        return with_own_screenshot(super().get_system_commands(screen), self.action_screenshot)
+
     def _log_key(self, what: str) -> None:
         if self._debug is not None:
             self._debug.write(f"{time.perf_counter():.4f} key {what}\n")
@@ -346,14 +350,15 @@ class ClothApp(ViewActions, CaptureActions, PanelActions, App):
         b = self.scene.behavior
         recording = bool(self.renderer is not None and self.renderer.recording)
         paused = bool(self.sim is not None and self.sim.paused)
-        text = self.readout.text(paused=paused, recording=recording,
-                                 iterations=b.iterations, substeps=b.substeps,
-                                 compact=self.size.width < WIDE_FROM)
+        marks = self.bake.status(("", ""))[0]  # "● USD 12 · " while baking
         if self._no_preview is not None:
-            text = (f"[b white on red] no preview [/] · {text[0]}", text[1])
-        text = self.bake.status(text)
+            marks += "[b white on red] no preview [/] · "
         for bar in self.query(StatusBar):  # none while the app is closing
-            bar.show(text, self.readout.ms_history)
+            width = bar.content_size.width or self.size.width - 2
+            state, cost = self.readout.text(paused=paused, recording=recording,
+                                            iterations=b.iterations, substeps=b.substeps,
+                                            width=width - cells(marks))
+            bar.show((marks + state, cost), self.readout.ms_history)
 
     def shutdown(self) -> None:
         """Stop both threads (the renderer finishes a running video); at most ~1.5 s."""

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 from functools import partial
 
+from typing import Callable, Iterable
+
+from textual.app import SystemCommand
 from textual.command import DiscoveryHit, Hit, Hits, Provider
 
 from ..resources import builtin_scenes
@@ -34,3 +37,15 @@ class SceneCommands(Provider):
             score = matcher.match(text)
             if score > 0:
                 yield Hit(score, matcher.highlight(text), callback, help=help)
+
+
+def with_own_screenshot(commands: Iterable[SystemCommand],
+                        screenshot: Callable[[], object]) -> Iterable[SystemCommand]:
+    """Textual's system commands, its "Screenshot" (an SVG of the terminal screen) replaced
+    by the app's own, the `i` key's: a PNG of the view in the captures folder."""
+    for command in commands:
+        if command.title == "Screenshot":
+            yield SystemCommand("Screenshot", "save a PNG of the view to the captures folder "
+                                "(the i key)", screenshot)
+        else:
+            yield command

@@ -22,7 +22,7 @@ FIELD_ACTIONS = {
     "submit": "apply the value and move to the next field",
     "toggle_switch": "toggle a focused switch",
 }
-KEY_WIDTH = 18
+KEY_WIDTH_AT_MOST = 26  # the keys' column: as wide as its widest entry, up to this
 
 
 def field_bindings() -> list[Binding]:
@@ -54,10 +54,12 @@ def help_groups(app: App) -> dict[str, list[tuple[str, str]]]:
 
 def help_table(app: App) -> Table:
     """Plain text cells (no markup: `[` is a key here), wrapped within their column."""
+    groups = help_groups(app)
+    widest = max(len(keys) for rows in groups.values() for keys, _ in rows)
     table = Table(box=None, show_header=False, padding=(0, 1), expand=True)
-    table.add_column(width=KEY_WIDTH, style="bold", no_wrap=True)
+    table.add_column(width=min(widest, KEY_WIDTH_AT_MOST), style="bold", overflow="fold")
     table.add_column(ratio=1)
-    for name, rows in help_groups(app).items():
+    for name, rows in groups.items():
         table.add_row(Text(name, style="bold underline"), "")
         for keys, what in rows:
             table.add_row(Text(keys), Text(what))
@@ -66,19 +68,30 @@ def help_table(app: App) -> Table:
 
 
 class HelpScreen(ModalScreen[None]):
-    """Keys and mouse actions; Escape, ? or F1 closes it."""
+    """Keys and mouse actions; Escape, ? or F1 closes it. The list has the focus, so its
+    own keys scroll it (arrows, PageUp/PageDown, Home/End); j, k and space too."""
 
     DEFAULT_CSS = """
     HelpScreen { align: center middle; }
     HelpScreen #help { width: 90; max-width: 100%; height: auto; max-height: 100%;
                        border: round $accent; background: $panel; padding: 0 1; }
     """
-    BINDINGS = [Binding("escape", "close", "Close help")]  # ? and F1: the app's help key
+    BINDINGS = [Binding("escape", "close", "Close help"),  # ? and F1: the app's help key
+                Binding("j", "scroll('down')", "Scroll down", show=False),
+                Binding("k", "scroll('up')", "Scroll up", show=False),
+                Binding("space", "scroll('page_down')", "Page down", show=False)]
 
     def compose(self) -> ComposeResult:
         with VerticalScroll(id="help") as box:
-            box.border_title = "cloth-tui keys (Escape closes)"
+            box.border_title = "cloth-tui keys (↑ ↓ PgUp PgDn scroll · Escape closes)"
             yield Static(help_table(self.app), id="help-text")
+
+    def on_mount(self) -> None:
+        self.query_one("#help", VerticalScroll).focus()
+
+    def action_scroll(self, how: str) -> None:
+        """`how`: down, up or page_down (the list's own scroll_… methods)."""
+        getattr(self.query_one("#help", VerticalScroll), f"scroll_{how}")()
 
     def action_close(self) -> None:
         self.dismiss()

@@ -23,8 +23,8 @@ NARROW_CLASS = "-narrow"
 
 class PanelActions:
     """Needs from the app: `scene`, `set_value`, `apply_scene`, `action_restart`, `notify`,
-    `recent_view_keys`, and Textual's `screen`, `focused`, `query_one`, `push_screen` and
-    `pop_screen`."""
+    `recent_view_keys`, `release_keys` (key_order.py), and Textual's `screen`, `focused`,
+    `query_one`, `push_screen` and `pop_screen`."""
 
     scene: Scene
     set_value: Callable[[str, Any], bool]
@@ -32,6 +32,7 @@ class PanelActions:
     action_restart: Callable[[], None]
     notify: Callable[..., None]
     recent_view_keys: Callable[[], list[str]]
+    release_keys: Callable[[], None]
     screen: Screen
     focused: Widget | None
     query_one: Callable[..., Widget]
@@ -39,6 +40,11 @@ class PanelActions:
     pop_screen: Callable[[], Any]
 
     def on_setting_field_edited(self, message: SettingField.Edited) -> None:
+        self._settle_edit(message)
+        if message.submitted:
+            self.release_keys()  # the keys typed after Enter, now that focus is settled
+
+    def _settle_edit(self, message: SettingField.Edited) -> None:
         dotted = message.dotted
         if message.value != self.scene.get(dotted) and not self.set_value(dotted, message.value):
             message.field.show(self.scene.get(dotted))
@@ -48,6 +54,11 @@ class PanelActions:
             self.screen.focus_next()  # Enter: on to the next field
 
     def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
+        self._settle_objects(message)
+        if message.submitted:
+            self.release_keys()
+
+    def _settle_objects(self, message: ObjectsPanel.Changed) -> None:
         try:
             new = self.scene.with_objects(message.objects)
             check_start(new)  # an object over a pinned particle: refused here, not by the sim

@@ -302,13 +302,24 @@ class ObjectsPanel(Vertical):
         count = len(self._objects)
         self._objects = [dataclasses.replace(o) for o in objects]
         if len(objects) != count:
-            self.call_later(self.recompose)
+            self.call_later(self._recompose_keeping_focus)
             return
         for i, obj in enumerate(objects):
             self.query_one(f"#object-{i}", Collapsible).title = object_title(i, obj)
         for field in self.query(SettingField):
             _, index, name = field.dotted.split(".")
             field.show(getattr(objects[int(index)], name))
+
+
+    async def _recompose_keeping_focus(self) -> None:
+        """New rows; focus in the list (the Add or a Remove button) stays in it, on Add,
+        rather than going to whatever follows the removed button (the Scene group's next
+        field, whose value the next keys would then edit)."""
+        focused = self.screen.focused
+        inside = focused is not None and self in focused.ancestors
+        await self.recompose()
+        if inside:
+            self.query_one("#add-object", Button).focus()
 
 
 class Controls(VerticalScroll):

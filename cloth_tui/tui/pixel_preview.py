@@ -101,7 +101,7 @@ class PixelPreview(Preview):
         if shown < rows:
             image = image[:max(1, image.shape[0] * shown // rows)]
             v = v * rows / shown
-        return Job(image, cols, shown, (u, v))
+        return Job(image, cols, shown, (u, v) if self.show_crosshair else None)
 
     # -- encoded frames (posted from the encoding thread) -----------------------------------
     def _on_encoded(self, encoded: Encoded) -> None:

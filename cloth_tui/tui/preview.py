@@ -164,6 +164,8 @@ def image_to_strips(image: np.ndarray, cols: int, rows: int, styles: StyleCache,
 class Preview(Widget):
     """Shows the newest frame; reports its pixel size, the mouse position and drags."""
 
+    show_crosshair = True  # where keys bump the cloth; the replay, which bumps nothing, has none
+
     DEFAULT_CSS = """
     Preview { width: 1fr; height: 1fr; }
     """
@@ -260,9 +262,9 @@ class Preview(Widget):
         if self._image is None:
             return
         cols, rows = self.size.width, self.size.height
-        self._strips = image_to_strips(self._image, cols, rows, self._styles,
-                                       self._cell(self.crosshair), self._palette,
-                                       self._rows)
+        crosshair = self._cell(self.crosshair) if self.show_crosshair else None
+        self._strips = image_to_strips(self._image, cols, rows, self._styles, crosshair,
+                                       self._palette, self._rows)
         self.refresh()
 
     # -- Line API -------------------------------------------------------------------------

@@ -98,6 +98,14 @@ class ReplayApp(ClothApp, inherit_bindings=False):
     def on_preview_grab(self, message: Preview.Grab) -> None:
         pass  # a recording cannot be pushed
 
+    def _make_preview(self) -> Preview:
+        preview = super()._make_preview()
+        preview.show_crosshair = False  # it only aims bumps
+        return preview
+
+    def _place_crosshair(self) -> bool:
+        return True  # none to place
+
     def _refresh_status(self) -> None:
         p = self.player
         recording = bool(self.renderer is not None and self.renderer.recording)

@@ -7,6 +7,9 @@ from __future__ import annotations
 import math
 import time
 from collections import deque
+from typing import NamedTuple
+
+from rich.text import Text
 
 from textual.app import ComposeResult
 from textual.containers import Horizontal, Vertical
@@ -15,6 +18,8 @@ from textual.widgets import Sparkline, Static
 
 # An xpbd residual (m) below this is not worth a place on the status line.
 CONSTRAINT_ERROR_SHOWN = 1e-4
+WIDE_TEXT = 1000      # cells: a line with room for everything in its longest form
+SPARK_AT_LEAST = 12   # cells the cost line leaves for the sparkline of ms per frame
 
 
 class RateMeter:
@@ -84,10 +89,10 @@ class Readout:
             return 0.0
         return e - self.energy0
 
-    def tolerance_text(self) -> str:
+    def tolerance_text(self, short: bool = False) -> str:
         """"tol 5 % → 12 substeps, 3.1 ms/frame": what the tolerance costs, and a warning
         when the frame did not meet it (the substeps at their cap, or springs, whose stretch
-        is their stiffness's)."""
+        is their stiffness's). `short`: "NOT MET" without its padding and colon."""
         s = self.stats
         tol = s.get("stretch_tolerance")
         if tol is None:
@@ -96,65 +101,111 @@ class Readout:
                 f"{self.frame_ms:.1f} ms/frame")
         if s.get("tolerance_met", True):
             return f"[b]{text}[/]"
+        if short:
+            return f"[b black on yellow]{text} NOT MET[/]"
         return f"[b black on yellow] {text}: NOT MET [/]"
 
     def text(self, *, paused: bool, recording: bool, iterations: int,
-             substeps: int, compact: bool = False) -> tuple[str, str]:
-        """(state line, cost line): what the sim and view do, and what a frame costs.
-        `compact` (a narrow terminal): rates, stretch and energy fit in 78 columns."""
+             substeps: int, width: int = WIDE_TEXT) -> tuple[str, str]:
+        """(state line, cost line) for a status line `width` cells wide: what the sim and
+        view do, and what a frame costs (the cost line leaves room for the sparkline).
+
+        Every width keeps the state, both rates and how the preview draws, the particle
+        count, the largest stretch, ΔE with its unit, the tolerance's cost, the xpbd
+        constraint error, and any tear, halt or recovery. What gives way, first to last:
+        the words around the energy (E, "since restart"), the mean stretch, the step's
+        breakdown, the render time, the rates' padding and "running"/"paused". Where the
+        state line does not fit even so (below ~110 cells), the particle count and the
+        marks (tears, the constraint error, recoveries) move to the cost line."""
+        wide = self._lines(paused, recording, iterations, substeps, width, narrow=False)
+        if cells(wide[0]) <= width:
+            return wide
+        return self._lines(paused, recording, iterations, substeps, width, narrow=True)
+
+    def _lines(self, paused: bool, recording: bool, iterations: int, substeps: int,
+               width: int, narrow: bool) -> tuple[str, str]:
         s = self.stats
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
-        if compact:
-            return self._compact_text(recording, paused, iterations, substeps)
-        parts = ["[b white on red] ● REC [/]"] if recording else []
-        parts += [
-            "[b yellow]⏸ PAUSED[/]" if paused else "[b green]▶ running[/]",
-            f"sim {self.sim_rate.rate():3.0f} fps",
-            f"view {self.view_rate.rate():3.0f} fps"
-            + (f" ({self.graphics})" if self.graphics else ""),
-            f"{s.get('particles', 0)} particles",
-            f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean {pct(s.get('mean_stretch'))}",
-            f"E {s.get('energy', 0.0):+.3f} J  ΔE since restart {self.drift:+.3f} J",
+        state = ([Part(("[b white on red] ● REC [/]", "[b white on red]● REC[/]",
+                        "[b white on red]●[/]"), 8)] if recording else [])
+        if s.get("halted"):
+            state.insert(0, Part(("[b white on red] HALTED: diverging [/]",
+                                  "[b white on red] HALTED [/]"), 8))
+        sim, view = self.sim_rate.rate(), self.view_rate.rate()
+        mode = f" ({self.graphics})" if self.graphics else ""
+        state += [
+            Part(("[b yellow]⏸ PAUSED[/]", "[b yellow]⏸[/]") if paused else
+                 ("[b green]▶ running[/]", "[b green]▶[/]"), 3),
+            Part((f"sim {sim:3.0f} fps", f"sim {sim:.0f} fps"), 4),
+            Part((f"view {view:3.0f} fps{mode}", f"view {view:.0f} fps{mode}"), 4),
         ]
+        particles = Part((f"{s.get('particles', 0)} particles",), 9)
+        stretch = Part((f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean "
+                        f"{pct(s.get('mean_stretch'))}",
+                        f"stretch max [b]{pct(s.get('max_stretch'))}[/]",
+                        f"stretch [b]{pct(s.get('max_stretch'))}[/]"), 1)
+        e, de = s.get("energy", 0.0), self.drift
+        energy = Part((f"E {e:+.3f} J  ΔE since restart {de:+.3f} J", f"E {e:+.4g} J ΔE "
+                       f"{de:+.4g} J", f"ΔE {de:+.4g} J"), 0)
+        marks = []  # tears, the constraint error, recoveries: shown at every width
         if s.get("torn"):
-            parts.append(f"[b]{s['torn']} torn[/]")
+            marks.append(Part((f"[b]{s['torn']} torn[/]",), 9))
         residual = s.get("constraint_error")
         if residual is not None and residual > CONSTRAINT_ERROR_SHOWN:
-            parts.append(f"constraint error {1e3 * residual:.2f} mm")
-        if s.get("halted"):
-            parts.append("[b white on red] HALTED: diverging [/]")
+            marks.append(Part((f"constraint error {1e3 * residual:.2f} mm",
+                               f"error {1e3 * residual:.2f} mm"), 5))
         if s.get("recoveries"):
-            parts.append(f"[red]{s['recoveries']} recoveries[/]")
+            marks.append(Part((f"[red]{s['recoveries']} recoveries[/]",), 9))
+
         used = s.get("substeps_used", substeps)
         shown = f"{substeps}" if used == substeps else f"{substeps} (now {used})"
-        frame = self.tolerance_text() or f"cost [b]{self.frame_ms:6.2f}[/] ms/frame"
-        cost = (f"{frame}, {self.step_ms:5.3f} ms/step at "
-                f"{iterations} iterations × {shown} substeps · render {self.render_ms:5.1f} ms"
-                f" · ms/frame:")
-        return " · ".join(parts), cost
+        frame = self.tolerance_text()
+        frame_part = Part((frame, self.tolerance_text(short=True)), 6) if frame else \
+            Part((f"cost [b]{self.frame_ms:6.2f}[/] ms/frame", f"{self.frame_ms:.1f} ms/frame"), 6)
+        cost = [frame_part,
+                Part((f"{self.step_ms:5.3f} ms/step at {iterations} iterations × {shown} "
+                      f"substeps", f"{self.step_ms:.3f} ms/step · {iterations}×{used}",
+                      f"{iterations}×{used}", ""), 2),
+                Part((f"render {self.render_ms:5.1f} ms", f"render {self.render_ms:.0f} ms", ""),
+                     1)]
+        if narrow:
+            state += [stretch, energy]
+            cost = [particles, cost[0], *marks, *cost[1:]]
+        else:
+            state += [particles, stretch, energy, *marks]
+            cost.append(Part(("ms/frame:", ""), 0))
+        return fit(state, width), fit(cost, width - (0 if narrow else SPARK_AT_LEAST))
 
 
-    def _compact_text(self, recording: bool, paused: bool, iterations: int,
-                      substeps: int) -> tuple[str, str]:
-        s = self.stats
-        parts = ["[b white on red]● REC[/]"] if recording else []
-        pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
-        state = ("[b yellow]⏸ PAUSED[/]", "[b green]▶ running[/]")
-        if parts:  # recording: the mark takes the state word's room
-            state = ("[b yellow]⏸[/]", "[b green]▶[/]")
-        parts += [
-            state[0] if paused else state[1],
-            f"sim {self.sim_rate.rate():.0f} fps",
-            f"view {self.view_rate.rate():.0f} fps",
-            f"stretch [b]{pct(s.get('max_stretch'))}[/]",
-            f"E {s.get('energy', 0.0):+.4g} J ΔE {self.drift:+.4g} J",  # 4 digits fit
-        ]
-        if s.get("halted"):
-            parts.insert(0, "[b white on red] HALTED [/]")
-        used = s.get("substeps_used", substeps)
-        cost = (f"{self.frame_ms:.1f} ms/frame · {self.step_ms:.3f} ms/step · "
-                f"{iterations}×{used} · render {self.render_ms:.1f} ms")
-        return " · ".join(parts), cost
+class Part(NamedTuple):
+    """One item of a status line: its forms, longest first ("" drops it), and its rank:
+    of the items that can still shorten, those shortened least do first, and of those
+    the lowest-ranked."""
+    forms: tuple[str, ...]
+    rank: int
+
+
+def cells(markup: str) -> int:
+    return Text.from_markup(markup).cell_len
+
+
+def fit(parts: list[Part], width: int, sep: str = " · ") -> str:
+    """The parts joined, each in the longest form that lets the line fit `width` cells,
+    shortening them in Part's order; as short as they go if even that does not fit."""
+    chosen = [0] * len(parts)
+
+    def line() -> str:
+        return sep.join(f for p, i in zip(parts, chosen) if (f := p.forms[i]))
+
+    text = line()
+    while cells(text) > width:
+        can = [k for k, p in enumerate(parts) if chosen[k] + 1 < len(p.forms)]
+        if not can:
+            break
+        k = min(can, key=lambda k: (chosen[k], parts[k].rank, k))  # first steps first
+        chosen[k] += 1
+        text = line()
+    return text
 
 
 class StatusBar(Vertical):

@@ -69,6 +69,39 @@ def test_camera_controls(renderer):
     assert np.array_equal(renderer.render(snap), home)
 
 
+def _camera_y(renderer) -> float:
+    return renderer.plotter.camera.GetPosition()[1]
+
+
+def test_orbiting_down_stops_above_the_floor_as_orbiting_up_stops(renderer):
+    snap = draped(scene_with(wireframe=False))
+    fresh(renderer, snap)
+    floor = snap.scene.scene.floor_height
+    for _ in range(12):  # far past the floor: ten degrees a press
+        renderer.orbit(0, -10)
+        assert _camera_y(renderer) > floor
+    r, g, b = (renderer.render(snap)[..., k].astype(int) for k in range(3))
+    underside = (r > 60) & (r > 2 * g) & (r > 2 * b)  # darker red: seen from below, lit above
+    assert underside.sum() > 300  # the cloth is in view, not hidden under the ground
+    low = renderer.elevation
+    renderer.zoom(1 / 4)  # farther out at the lowest angle: still above the floor
+    assert _camera_y(renderer) > floor and renderer.elevation > low
+    for _ in range(12):
+        renderer.orbit(0, 10)
+    assert renderer.elevation == 85.0
+    renderer.reset_camera()
+
+
+def test_without_a_floor_the_camera_orbits_below(renderer):
+    snap = draped(scene_with(wireframe=False).with_value("scene.floor", False))
+    fresh(renderer, snap)
+    for _ in range(12):
+        renderer.orbit(0, -10)
+    assert renderer.elevation == -85.0
+    renderer.update_scene(scene_with())
+    renderer.reset_camera()
+
+
 def test_objects_are_drawn_and_moved_in_place(renderer):
     scene = scene_with(wireframe=False)
     without = fresh(renderer, draped(scene, sag=0.05))

@@ -304,3 +304,15 @@ def test_t_key_keeps_the_physics_on_one_thread(tmp_path):
             finally:
                 threads.force_single_thread(False)
     run(go())
+
+
+def test_the_palette_screenshot_is_the_apps_own(tmp_path):
+    """Not Textual's SVG of the terminal beside the app's `i`: the one entry takes the PNG."""
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE):
+            shots = [c for c in app.get_system_commands(app.screen) if "creenshot" in c.title]
+            assert len(shots) == 1 and "PNG" in shots[0].help and "SVG" not in shots[0].help
+            shots[0].callback()
+            assert any(c[0] == "screenshot" for c in app.renderer.calls)
+    run(go())

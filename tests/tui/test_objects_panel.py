@@ -73,3 +73,30 @@ def test_objects_are_listed_edited_added_and_removed(tmp_path):
             assert titles[0].startswith("1. box")
             assert app.query_one("#" + widget_id("objects.0.type"), Select).value == "box"
     run(go())
+
+
+def test_focus_stays_in_the_list_after_add_and_remove(tmp_path):
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=SIZE) as pilot:
+            app.query_one("#group-scene", Collapsible).collapsed = False
+            height = app.scene.cloth.height
+            panel = app.query_one("#objects")
+            app.query_one("#add-object", Button).focus()
+            await pilot.press("enter")
+            await until(pilot, lambda: len(app.query("#objects Collapsible")) == 1,
+                        what="the new object's rows")
+            await pilot.pause(0.1)
+            assert app.focused is app.query_one("#add-object", Button)
+
+            app.query_one("#object-0", Collapsible).collapsed = False
+            await pilot.pause(0.1)
+            app.query_one("#remove-object-0", Button).focus()
+            await pilot.press("enter")
+            await until(pilot, lambda: not app.query("#objects Collapsible"), what="removed")
+            await pilot.pause(0.1)
+            assert app.focused is not None and panel in app.focused.ancestors_with_self
+            await pilot.press("5")  # no field took the focus: nothing is edited
+            await pilot.pause(0.1)
+            assert app.scene.cloth.height == height
+    run(go())

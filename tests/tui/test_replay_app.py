@@ -160,3 +160,15 @@ def test_the_command_line_opens_a_bake_in_the_replay_app(tmp_path, bake_path, mo
     (app,) = opened
     assert isinstance(app, ReplayApp) and app.player.count == FRAMES
     assert app.scene.appearance.wireframe is False and app.start_paused is False
+
+
+def test_the_replay_draws_no_crosshair(tmp_path, bake_path):
+    from cloth_tui.tui.preview import CROSSHAIR
+
+    async def go():
+        app = make_replay(tmp_path, bake_path)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 1, what="frames")
+            lines = [app.preview.render_line(y).text for y in range(app.preview.size.height)]
+            assert not any(CROSSHAIR in line for line in lines)
+    run(go())

@@ -1,0 +1,76 @@
+"""A first run says it is compiling kernels (numba's cache is empty), and with what progress;
+a run whose kernels load from the cache says nothing."""
+
+import io
+import os
+import subprocess
+import sys
+import time
+
+from numba import njit
+
+from cloth_tui.compile_notice import HEADER, CompileNotice
+
+
+def _fresh_kernels():
+    """Two kernels never compiled in this process (no cache): each call compiles one."""
+    @njit
+    def inner(x):
+        return x * 2.0
+
+    @njit
+    def outer(x):
+        return inner(x) + 1.0
+
+    return outer, inner
+
+
+def test_compiling_is_announced_with_a_count_and_ended():
+    outer, inner = _fresh_kernels()
+    out = io.StringIO()
+    with CompileNotice(out, live=True) as notice:
+        outer(1.0)  # compiles outer and, nested within it, inner
+        notice.finish()
+        outer(2.0)  # compiled already: nothing more
+    text = out.getvalue()
+    assert text.startswith(HEADER) and text.endswith("\n") and text.count("\n") == 1
+    assert "1 compiled" in text and notice.compiled == 1  # one kernel compiled at the top
+
+
+def test_nothing_compiled_nothing_said():
+    outer, _ = _fresh_kernels()
+    outer(1.0)
+    out = io.StringIO()
+    with CompileNotice(out, live=False):
+        outer(3.0)
+    assert out.getvalue() == ""
+
+
+def test_not_a_terminal_gets_whole_lines():
+    outer, _ = _fresh_kernels()
+    out = io.StringIO()
+    with CompileNotice(out, live=False):
+        outer(1.0)
+    lines = out.getvalue().splitlines()
+    assert lines[0] == HEADER and "1 kernels compiled" in lines[1] and len(lines) == 2
+
+
+def test_a_first_render_says_so_before_it_compiles(tmp_path):
+    """With an empty kernel cache, `render` says so at once (the compiling that follows
+    takes ~30 s: the test stops the run once the line is there)."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    run = subprocess.Popen([sys.executable, "-m", "cloth_tui", "render", "default", "-o",
+                            str(tmp_path / "out.png"), "--frames", "1", "--size", "64x48"],
+                           stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, env=env,
+                           text=True)
+    try:
+        deadline = time.monotonic() + 120
+        line = ""
+        while time.monotonic() < deadline:
+            line = run.stderr.readline()
+            if not line or HEADER in line:
+                break
+        assert HEADER in line, line
+    finally:
+        run.kill()
+        run.wait()

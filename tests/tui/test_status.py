@@ -1,0 +1,79 @@
+"""The status line at several widths: both lines fit, and what every width keeps is there
+(the state, both rates with the graphics mode, the particle count, the largest stretch, ΔE
+with its unit, the tolerance's cost, the xpbd constraint error with its value, tears); and
+notices never cover it."""
+
+import re
+
+import pytest
+from rich.text import Text
+
+from cloth_tui.tui.status import SPARK_AT_LEAST, RateMeter, Readout, cells
+
+from .conftest import make_app, run, until
+
+XPBD_STATS = {"energy": 0.446, "particles": 676, "frame_ms": 19.1, "step_ms": 1.736,
+              "substeps_used": 11, "max_stretch": 0.0075, "mean_stretch": 0.0017,
+              "stretch_tolerance": 0.01, "tolerance_met": True, "constraint_error": 1.2e-4,
+              "torn": 3}
+ALWAYS = ("sim 57 fps", "view 57 fps (blocks 256)", "676 particles", "0.75%",
+          "-0.045 J", "tol 1 % → 11 substeps, 19.1 ms/frame", "0.12 mm", "3 torn")
+
+
+@pytest.fixture
+def readout(monkeypatch):
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 57.0)
+    r = Readout()
+    r.graphics = "blocks 256"
+    r.on_snapshot(0, dict(XPBD_STATS, energy=0.491))
+    r.on_snapshot(1, XPBD_STATS)
+    r.render_ms = 112.2
+    return r
+
+
+@pytest.mark.parametrize("width", [78, 90, 100, 110, 118, 130, 140, 158, 200])
+@pytest.mark.parametrize("recording,paused", [(False, False), (True, True)])
+def test_each_width_keeps_what_matters_and_fits(readout, width, recording, paused):
+    state, cost = readout.text(paused=paused, recording=recording, iterations=4, substeps=4,
+                               width=width)
+    both = Text.from_markup(state).plain + " | " + Text.from_markup(cost).plain
+    both = " ".join(both.split())  # the rates are padded to 3 digits where there is room
+    for shown in ALWAYS:
+        assert shown in both, (shown, both)
+    assert re.search(r"ΔE (since restart )?-0\.045 J", both), both
+    assert ("PAUSED" in both or "⏸" in both) == paused and ("●" in both) == recording
+    assert cells(state) <= width
+    room_for_spark = SPARK_AT_LEAST if "particles" in Text.from_markup(state).plain else 0
+    assert cells(cost) <= width - room_for_spark
+
+
+def test_a_wide_line_says_it_in_full_words(readout):
+    state, cost = readout.text(paused=False, recording=False, iterations=4, substeps=4,
+                               width=158)  # a 160-column terminal less the padding
+    plain = Text.from_markup(state).plain
+    assert "▶ running" in plain and "constraint error 0.12 mm" in plain
+    assert "4 iterations × 4 (now 11) substeps" in Text.from_markup(cost).plain
+
+
+def test_the_app_line_fits_its_terminal_and_notices_stay_off_it(tmp_path):
+    async def go():
+        app = make_app(tmp_path)
+        async with app.run_test(size=(160, 48), notifications=True) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 0, what="a frame")
+            app.readout.on_snapshot(app.readout.last_frame + 1, XPBD_STATS)  # xpbd, as above
+            for size in ((160, 48), (100, 30), (80, 24)):
+                await pilot.resize_terminal(*size)
+                await pilot.pause(0.2)
+                app._refresh_status()
+                await pilot.pause(0.1)
+                text = app.query_one("#status-text")
+                plain = text.render().plain + " " + app.query_one("#cost-text").render().plain
+                assert text.render().cell_length <= text.size.width, size
+                assert "0.12 mm" in plain and "676 particles" in plain, (size, plain)
+            app.notify("a notice with a long text that would reach the right half " * 2)
+            await until(pilot, lambda: app.screen.query("Toast"), what="the notice shown")
+            await pilot.pause(0.2)
+            bar = app.query_one("#status").region
+            toasts = [t.region for t in app.screen.query("Toast")]
+            assert toasts and not any(t.overlaps(bar) for t in toasts)
+    run(go())
