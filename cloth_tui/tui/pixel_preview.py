@@ -195,9 +195,10 @@ class PixelPreview(Preview):
         self._shown_on_terminal = True
         self.frames_written += 1
         self.last_encode_ms = encoded.encode_ms
-        self._debug_line(f"painted {self.frames_written}")
 
     def _set_layout(self, layout: Layout | None) -> None:
+        """The layout the picture is now in, noted in the debug log when it changes (where
+        a real terminal shows something wrong, this says where the preview drew)."""
         if layout != self._layout_now and layout is not None:
             rects = " ".join(":".join(map(str, r)) for r in layout.rects)
             self._debug_line(f"layout at {layout.origin[0]},{layout.origin[1]} cells "
