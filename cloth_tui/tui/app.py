@@ -301,8 +301,12 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         return with_own_screenshot(super().get_system_commands(screen), self.action_screenshot)
 
     def _log_key(self, what: str) -> None:
+        self.debug_line(f"key {what}")
+
+    def debug_line(self, text: str) -> None:
+        """A timestamped line in the debug log (CLOTH_TUI_DEBUG_LOG), when there is one."""
         if self._debug is not None:
-            self._debug.write(f"{time.perf_counter():.4f} key {what}\n")
+            self._debug.write(f"{time.perf_counter():.4f} {text}\n")
 
     def action_pause(self) -> None:
         if self.sim is not None:

@@ -58,7 +58,8 @@ def test_frames_are_written_at_the_preview_cell_with_the_cells_pixel_size(tmp_pa
     frames = [d for d in written if d.startswith("\x1b7")]
     assert frames
     frame = frames[-1]
-    assert frame.startswith(f"\x1b7\x1b[{region.y + 1};{region.x + 1}H") and frame.endswith("\x1b8")
+    assert frame.endswith("\x1b8")
+    at_top_left = f"\x1b[{region.y + 1};{region.x + 1}H"
     if mode == "kitty":
         chunks = re.findall(r"\x1b_G([^;\x1b]*);?([^\x1b]*)\x1b\\", frame)
         head = dict(kv.split("=") for kv in chunks[0][0].split(","))
@@ -69,8 +70,11 @@ def test_frames_are_written_at_the_preview_cell_with_the_cells_pixel_size(tmp_pa
         assert len(np.unique(image.reshape(-1, 3), axis=0)) >= 3  # fog, cloth, crosshair
         place = [dict(kv.split("=") for kv in k.split(",")) for k, _ in chunks if "a=p" in k]
         assert (int(place[0]["c"]), int(place[0]["r"])) == (region.width, region.height)
+        assert (place[0]["x"], place[0]["y"], place[0]["w"], place[0]["h"]) == ("0", "0", str(w), str(h))
+        assert at_top_left + "\x1b_Ga=p" in frame
     else:
-        assert f'"1;1;{w};{h}' in frame and frame.rstrip("\x1b8").endswith("\x1b\\")
+        assert at_top_left + f'\x1bP0;1;0q"1;1;{w};{h}' in frame
+        assert frame.rstrip("\x1b8").endswith("\x1b\\")
 
 
 def test_half_blocks_are_dithered_to_the_cube_when_the_terminal_has_256_colours(tmp_path):
@@ -127,28 +131,126 @@ def test_a_screen_over_the_preview_takes_the_kitty_picture_away_and_back(tmp_pat
     run(go())
 
 
-def test_the_picture_stops_above_a_notice_over_the_preview(tmp_path):
+PLACE = re.compile(r"\x1b\[(\d+);(\d+)H\x1b_G(a=p[^\x1b]*)\x1b\\")
+SIXEL = re.compile(r"\x1b\[(\d+);(\d+)H\x1bP0;1;0q\"1;1;(\d+);(\d+)")
+
+
+def kitty_boxes(stream: str) -> list[tuple[int, int, int, int]]:
+    """(x, y, width, height) in 0-based cells of each kitty placement in the stream."""
+    out = []
+    for row, col, keys in PLACE.findall(stream):
+        k = dict(kv.split("=") for kv in keys.split(","))
+        out.append((int(col) - 1, int(row) - 1, int(k["c"]), int(k["r"])))
+    return out
+
+
+def sixel_boxes(stream: str, cell_px) -> list[tuple[int, int, int, int]]:
+    """The same for each sixel image, from its pixel size (cells it reaches into)."""
+    cw, ch = cell_px
+    return [(int(col) - 1, int(row) - 1, -(-int(w) // cw), -(-int(h) // ch))
+            for row, col, w, h in SIXEL.findall(stream)]
+
+
+def overlaps(box, region) -> bool:
+    x, y, w, h = box
+    return x < region.right and region.x < x + w and y < region.bottom and region.y < y + h
+
+
+@pytest.mark.parametrize("mode", ["kitty", "sixel"])
+def test_around_a_notice_the_picture_goes_on_beside_it(tmp_path, mode):
     written: list[str] = []
+    cell = (9, 20)
 
     async def go():
-        app = make_app(tmp_path, graphics=Graphics("kitty", (9, 20), "truecolor"))
-        async with app.run_test(size=SIZE, notifications=True) as pilot:
+        # 100 columns: sixel's picture (900 × 540 pixels) fills the preview to its last row
+        app = make_app(tmp_path, graphics=Graphics(mode, cell, "truecolor"))
+        async with app.run_test(size=(100, 30), notifications=True) as pilot:
             driver = app._driver
             original = driver.write
-            driver.write = lambda data: (written.append(data), original(data))
+
+            def write(data):  # what was written once the notice was on the screen
+                if any(t.region.area for t in app.screen.query("Toast")):
+                    written.append(data)
+                original(data)
+
+            driver.write = write
             preview = app.preview
             await until(pilot, lambda: preview.frames_written >= 1, what="a frame")
-            await pilot.press("c")  # controls hidden: the preview spans the screen
-            await pilot.pause(0.3)
-            rows = preview.size.height
             app.notify("a notice that must stay readable", timeout=30)
+            await until(pilot, lambda: bool(app.screen.query("Toast")), what="the notice")
             await pilot.pause(0.3)
-            toast = app.screen.query_one("Toast")
-            assert toast.region.overlaps(preview.region)
+            toast = app.screen.query_one("Toast").region
+            assert toast.overlaps(preview.region)
+            if mode == "kitty":  # at once, before any new frame: off the notice's cells
+                boxes = kitty_boxes("".join(written).split("a=t")[0])
+                assert boxes, "the picture was not moved when the notice came"
+                assert not any(overlaps(b, toast) for b in boxes)
             written.clear()
+            before = preview.frames_written
             preview.move_crosshair(0, 0)  # a new frame (the simulation is paused)
-            await until(pilot, lambda: any("a=p" in d for d in written), what="a frame")
-            place = re.search(r"a=p[^\x1b]*,r=(\d+)", "".join(written))
-            shown = int(place.group(1))
-            assert shown == toast.region.y - preview.region.y < rows
+            await until(pilot, lambda: preview.frames_written > before, what="a frame")
+            stream = "".join(written)
+            boxes = kitty_boxes(stream) if mode == "kitty" else sixel_boxes(stream, cell)
+            region = preview.content_region
+            assert not any(overlaps(b, toast) for b in boxes)
+            covered = sum(w * h for *_, w, h in boxes)
+            hidden = toast.intersection(region).area
+            assert covered == region.area - hidden  # all the rest, the rows beside it too
+            beside = [b for b in boxes if b[1] >= toast.y]
+            assert beside and beside[0][0] == region.x and beside[0][2] == toast.x - region.x
+    run(go())
+
+
+@pytest.mark.parametrize("mode", ["kitty", "sixel"])
+def test_the_drawer_opens_over_the_picture_at_once(tmp_path, mode):
+    written: list[str] = []  # what was written once the drawer was on the screen
+    cell = (9, 20)
+
+    async def go():
+        app = make_app(tmp_path, graphics=Graphics(mode, cell, "truecolor"))
+        async with app.run_test(size=(100, 30)) as pilot:
+            drawer = app.query_one("#controls")
+            driver = app._driver
+            original = driver.write
+
+            def write(data):
+                if drawer.display and drawer.region.width > 0:
+                    written.append(data)
+                original(data)
+
+            driver.write = write
+            preview = app.preview
+            await until(pilot, lambda: preview.frames_written >= 1, what="a frame")
+            before = preview.frames_written
+            await pilot.press("c")  # narrow: the drawer opens over the preview
+            await until(pilot, lambda: drawer.display and drawer.region.width > 0,
+                        what="the drawer")
+            await pilot.pause(0.2)
+            if mode == "kitty":  # moved off the drawer before any new frame
+                boxes = kitty_boxes("".join(written).split("a=t")[0])
+                assert boxes, "the picture was not moved when the drawer opened"
+                assert not any(overlaps(b, drawer.region) for b in boxes)
+            preview.move_crosshair(0, 0)  # a new frame, cut for the open drawer
+            await until(pilot, lambda: preview.frames_written > before + 1, what="a frame")
+            stream = "".join(written)
+            boxes = kitty_boxes(stream) if mode == "kitty" else sixel_boxes(stream, cell)
+            assert boxes and not any(overlaps(b, drawer.region) for b in boxes)
+            assert max(x + w for x, _, w, _ in boxes) == drawer.region.x  # up to its edge
+    run(go())
+
+
+def test_cells_the_picture_leaves_are_the_scene_background(tmp_path):
+    async def go():
+        app = make_app(tmp_path, graphics=Graphics("sixel", (9, 20), "truecolor"))
+        async with app.run_test(size=SIZE) as pilot:
+            preview = app.preview
+            await until(pilot, lambda: preview.frames_written >= 1, what="a frame")
+            strip = preview.render_line(0)
+            fog = app.scene.appearance.fog_color
+            assert {seg.style.bgcolor.name for seg in strip} == {fog}
+            app.set_value("appearance.fog_color", "#203040")
+            preview.show_image(preview._image)
+            strip = preview.render_line(0)
+            assert {seg.style.bgcolor.name for seg in strip} == {"#203040"}
+            assert preview.layout().fill_sgr == "48;2;32;48;64"  # the erased cells' too
     run(go())

@@ -1,4 +1,5 @@
-"""The encoding thread: turns the newest frame into terminal bytes off the UI thread.
+"""The encoding thread: prepares the newest frame off the UI thread (kitty's compression,
+sixel's dither and encoding); the UI thread only asks the codec for the bytes that show it.
 
 One slot in, newest wins: a frame offered while the previous one is still being encoded
 replaces the waiting one, so a slow encoder (or terminal) drops frames instead of queueing
@@ -10,11 +11,12 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
 from . import kitty, sixel
+from .layout import Layout
 
 CROSSHAIR_RGB = (255, 255, 0)
 
@@ -22,37 +24,34 @@ CROSSHAIR_RGB = (255, 255, 0)
 @dataclass(frozen=True)
 class Job:
     image: np.ndarray                   # (H, W, 3) uint8
-    cols: int                           # cells the picture covers
-    rows: int
+    layout: Layout                      # where it goes
     crosshair: tuple[float, float] | None  # (u, v) in [0, 1], drawn into the pixels
 
 
 @dataclass(frozen=True)
 class Encoded:
-    data: str          # the escape sequences, written at the preview's top-left cell
-    cols: int
-    rows: int
+    frame: Any         # the codec's prepared frame, for its `show`
+    layout: Layout     # the layout it was prepared for
     encode_ms: float
 
 
 class FrameCodec(Protocol):
-    def encode(self, image: np.ndarray, cols: int, rows: int) -> str: ...
+    def prepare(self, image: np.ndarray, layout: Layout) -> Any:
+        """On the encoding thread: the costly part, touching no state."""
 
-    def clear(self) -> str: ...
+    def show(self, frame: Any, layout: Layout) -> str | None:
+        """On the UI thread: the bytes that put a prepared frame on the screen in `layout`,
+        or None if the frame cannot be shown in it."""
 
-
-class SixelCodec:
-    """Sixel has no ids: each frame is drawn over the last at the same place."""
-
-    def encode(self, image: np.ndarray, cols: int, rows: int) -> str:
-        return sixel.encode(image)
+    def relayout(self, layout: Layout) -> str:
+        """On the UI thread: the bytes that move the picture on screen into a new layout."""
 
     def clear(self) -> str:
-        return ""  # the cells' next repaint covers it
+        """On the UI thread: the bytes that take the picture off the screen."""
 
 
 def codec_for(mode: str) -> FrameCodec:
-    return kitty.KittyFrames() if mode == "kitty" else SixelCodec()
+    return kitty.KittyFrames() if mode == "kitty" else sixel.SixelFrames()
 
 
 def draw_crosshair(image: np.ndarray, uv: tuple[float, float], arm: int) -> np.ndarray:
@@ -112,9 +111,8 @@ class FrameEncoder:
             if job.crosshair is not None:
                 image = draw_crosshair(image, job.crosshair, self.crosshair_arm)
             try:
-                data = self.codec.encode(image, job.cols, job.rows)
+                frame = self.codec.prepare(image, job.layout)
             except Exception:  # a bad frame must not end the pictures
                 continue
             self.encoded += 1
-            self.on_encoded(Encoded(data, job.cols, job.rows,
-                                    (time.perf_counter() - t0) * 1e3))
+            self.on_encoded(Encoded(frame, job.layout, (time.perf_counter() - t0) * 1e3))

@@ -8,12 +8,22 @@ Layout (the DEC spec): bands six pixels high; in a band each colour in use is on
 characters `63 + bits` (bit k = pixel row k of the band), `$` returns to the band's start for
 the next colour, `-` goes to the next band, `!n c` repeats c n times. The run-length pass is
 vectorised over every colour row of the image at once; Python only joins the rows.
+
+`SixelFrames` puts frames on the screen: sixel has no ids and no placements, so a frame is
+drawn over the last, one sixel image per uncovered rectangle of the preview (layout.py), cut
+from one dithered picture so the dither pattern runs on across the cuts. Writing a cell
+erases xterm's sixel pixels in it, so the app's own widgets over the preview take the picture
+off their cells when they are drawn; what is left to do is not to draw over them again, and to
+erase the cells a smaller picture no longer reaches when the layout changes.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from .layout import Layout, goto, pixel_box
 from .palette import cube, dither_cube_indices, dither_indices
 
 DCS = "\x1bP"
@@ -88,9 +98,14 @@ def _run_length(rows: np.ndarray) -> list[bytes]:
 
 def encode(image: np.ndarray, palette: np.ndarray = PALETTE) -> str:
     """The (H, W, 3) uint8 image as a complete sixel sequence, drawn at the cursor."""
-    h, w = image.shape[:2]
     indices = (dither_cube_indices(image) if palette is PALETTE
                else dither_indices(image, palette))
+    return encode_indices(indices, palette)
+
+
+def encode_indices(indices: np.ndarray, palette: np.ndarray = PALETTE) -> str:
+    """An (H, W) image of palette indices as a complete sixel sequence."""
+    h, w = indices.shape
     rows, keys = _colour_rows(indices)
     encoded = _run_length(rows)
     parts = [f'{DCS}0;1;0q"1;1;{w};{h}', palette_definitions(palette)]
@@ -104,3 +119,73 @@ def encode(image: np.ndarray, palette: np.ndarray = PALETTE) -> str:
     parts.append(b"".join(band_parts).decode("ascii"))
     parts.append(ST)
     return "".join(parts)
+
+
+def fit(image: np.ndarray, width: int, height: int) -> np.ndarray:
+    """The image resampled (nearest pixel) to width × height: sixel is shown unscaled, so a
+    frame rendered for another size would reach past the preview's cells."""
+    h, w = image.shape[:2]
+    if (w, h) == (width, height):
+        return image
+    ys = ((np.arange(height) + 0.5) * (h / height)).astype(np.intp)
+    xs = ((np.arange(width) + 0.5) * (w / width)).astype(np.intp)
+    return image[ys[:, None], xs[None, :], :3]
+
+
+def erase_unfilled(layout: Layout) -> str:
+    """Erase (ECH, in the preview's own background) every cell of the layout's rectangles
+    that the picture does not fill whole: a larger picture's pixels would stay there."""
+    pw, ph = layout.picture_px
+    cw, ch = layout.cell_px
+    full_cols, full_rows = pw // cw, ph // ch
+    out = []
+    for x, y, w, h in layout.rects:
+        for row in range(y, y + h):
+            start = x if row >= full_rows else max(x, full_cols)
+            if start < x + w:
+                out.append(f"{goto(layout, (start, row, 0, 0))}\x1b[{x + w - start}X")
+    if not out:
+        return ""
+    return f"\x1b[0;{layout.fill_sgr}m" + "".join(out) + "\x1b[0m"
+
+
+@dataclass(frozen=True)
+class SixelFrame:
+    layout: Layout  # what it was cut for
+    erase: str      # erase_unfilled(layout)
+    draw: str       # a sixel image at each rectangle's top-left cell
+
+
+class SixelFrames:
+    """`prepare` runs on the encoding thread and touches no state; `show`, `relayout` and
+    `clear` run on the UI thread in the order their output is written."""
+
+    def __init__(self) -> None:
+        self._shown: Layout | None = None  # the layout of the picture on screen
+
+    def prepare(self, image: np.ndarray, layout: Layout) -> SixelFrame:
+        pw, ph = layout.picture_px
+        indices = dither_cube_indices(fit(image, pw, ph))
+        parts = []
+        for rect in layout.rects:
+            x0, y0, x1, y1 = pixel_box(rect, layout.cell_px)
+            x1, y1 = min(x1, pw), min(y1, ph)
+            if x1 > x0 and y1 > y0:
+                parts.append(goto(layout, rect) + encode_indices(indices[y0:y1, x0:x1]))
+        return SixelFrame(layout, erase_unfilled(layout), "".join(parts))
+
+    def show(self, frame: SixelFrame, layout: Layout) -> str | None:
+        """The frame's bytes, or None if it was cut for another layout (it would be drawn
+        over whatever now covers the preview)."""
+        if frame.layout != layout:
+            return None
+        erase = frame.erase if layout != self._shown else ""
+        self._shown = layout
+        return erase + frame.draw
+
+    def relayout(self, layout: Layout) -> str:
+        return ""  # the covering widgets' own drawing erased the picture under them
+
+    def clear(self) -> str:
+        self._shown = None
+        return ""  # the cells' next repaint covers it

@@ -5,6 +5,7 @@ import threading
 import numpy as np
 
 from cloth_tui.tui.graphics.encoder import Encoded, FrameEncoder, Job, draw_crosshair
+from cloth_tui.tui.graphics.layout import Layout
 
 
 class SlowCodec:
@@ -13,18 +14,24 @@ class SlowCodec:
         self.started = threading.Event()
         self.seen: list[int] = []
 
-    def encode(self, image, cols, rows):
+    def prepare(self, image, layout):
         self.started.set()
         self.release.wait(5)
         self.seen.append(int(image[0, 0, 0]))
         return f"frame{int(image[0, 0, 0])}"
+
+    def show(self, frame, layout):
+        return frame
+
+    def relayout(self, layout):
+        return ""
 
     def clear(self):
         return ""
 
 
 def job(n):
-    return Job(np.full((4, 4, 3), n, np.uint8), 2, 2, None)
+    return Job(np.full((4, 4, 3), n, np.uint8), Layout((0, 0), 2, 2, ((0, 0, 2, 2),)), None)
 
 
 def test_frames_offered_while_encoding_are_dropped_but_the_newest():
@@ -42,7 +49,7 @@ def test_frames_offered_while_encoding_are_dropped_but_the_newest():
         assert done.wait(5)
     finally:
         enc.stop()
-    assert codec.seen == [1, 6] and [e.data for e in out] == ["frame1", "frame6"]
+    assert codec.seen == [1, 6] and [e.frame for e in out] == ["frame1", "frame6"]
     assert enc.dropped == 4
 
 
