@@ -59,8 +59,8 @@ def make_bad(folder, kind):
 
 
 @pytest.mark.parametrize("kind, says", [
-    ("missing", "No such file"), ("garbage", "no triangles"), ("empty", "no triangles"),
-    ("broken_ply", "no triangles"), ("not_a_mesh", "not a mesh file"),
+    ("missing", "No such file"), ("garbage", "not an STL file"), ("empty", "no triangles"),
+    ("broken_ply", "claims 3 vertex"), ("not_a_mesh", "not a mesh file"),
     ("open", "not closed"), ("points_only", "no triangles")])
 def test_bad_mesh_files_exit_2_with_one_line(tmp_path, capfd, kind, says):
     scene = write_scene(tmp_path, make_bad(tmp_path, kind).name)
@@ -115,3 +115,11 @@ def test_the_distance_grid_stays_bounded_whatever_the_skin(torus, scale, thickne
                              spacing=1.0 / 226, thickness=thickness)
     assert max(field.distance.shape) <= meshes.MAX_CELLS + 2 * meshes.PAD_CELLS + 2
     assert field.cell * (max(field.distance.shape) - 1) >= 2 * thickness  # the skin is inside
+
+
+@pytest.mark.parametrize("mesh_path, says", [("a\\u0000b.stl", "a NUL byte in the file name"),
+                                             ("~nosuchuser/m.stl", "no such user's home")])
+def test_mesh_paths_no_file_system_takes_exit_2_with_one_line(tmp_path, capfd, mesh_path, says):
+    rc, out, err = simulate(capfd, write_scene(tmp_path, mesh_path))
+    assert rc == 2 and out == ""
+    assert err.count("\n") == 1 and "objects[0].path" in err and says in err, err
