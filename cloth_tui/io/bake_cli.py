@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from ..interrupt import Interrupt, Progress
+from ..interrupt import mesh_grid_progress
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path
@@ -82,7 +83,8 @@ def run_bake(args) -> int:
 
     from ..sim.runner import Simulation
 
-    sim = Simulation(scene)
+    with mesh_grid_progress(sys.stderr.isatty()):
+        sim = Simulation(scene)
     writer = open_writer(out, scene, sim.model)
     progress = Progress(frames, sys.stderr.isatty(), label="baking")
     done = 0

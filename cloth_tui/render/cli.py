@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
+from ..interrupt import mesh_grid_progress
 from ..io.usd_bake import USD_SUFFIXES
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, load
@@ -82,7 +83,8 @@ def run_render(args) -> int:
     from ..sim.runner import Simulation
     from .renderer import Renderer
 
-    sim = Simulation(scene)
+    with mesh_grid_progress(sys.stderr.isatty()):
+        sim = Simulation(scene)
     renderer = Renderer(scene, size)
     progress = _Progress(frames, sys.stderr.isatty())
     video = None
