@@ -14,6 +14,12 @@ the file (points, radii, time codes), the object attributes' types, the recorded
 line dropped or repeated, a sublayer, reference or payload added (to a FIFO, /dev/zero or
 another file), bytes flipped; then `render BAKE -o out.png`.
 
+Each case runs in its own process: a mesh case in a child forked from this one after it has
+imported cloth-tui, pyvista and pxr (a fresh interpreter per case cost 10–20 s on a loaded
+2-core machine), a bake case (which draws with EGL, not to be set up in a forked copy) in a
+fresh `python -m cloth_tui`; --spawn runs every case that way. Either way a crash or a hang
+takes only the child, and a child past --timeout is killed.
+
 Each case is classified: ok (exit 0, stderr silent), refused (exit 2, one line on stderr),
 bad_message (exit 2, not one line), stderr (exit 0 with output on stderr), timeout, or exit_N
 (any other status; a negative N is the signal that killed it). Only ok and refused pass.
@@ -266,13 +272,75 @@ def run_one(seed: int, index: int, bases: dict, timeout: float, keep: Path | Non
             code, err = proc.returncode, proc.stderr
         except subprocess.TimeoutExpired:
             code, err = None, ""
-        seconds = time.monotonic() - t0
-        verdict = classify(code, err)
-        if keep is not None and verdict not in ("ok", "refused"):
-            keep.mkdir(parents=True, exist_ok=True)
-            for path in folder.iterdir():
-                if path.is_file() and path.name.startswith(("case", "scene")):
-                    (keep / f"{seed}-{index}-{path.name}").write_bytes(path.read_bytes())
+        return _result(seed, index, kind, op, code, err, time.monotonic() - t0, folder, keep)
+
+
+def _child(args: list[str], folder: Path, fresh: bool) -> None:
+    """In a forked child: run the command as `python -m cloth_tui` would (`fresh`: exec that),
+    its output to files."""
+    try:
+        os.chdir(folder)
+        null = os.open(os.devnull, os.O_RDONLY)
+        os.dup2(null, 0)
+        for fd, name in ((1, "stdout"), (2, "stderr")):
+            out = os.open(folder / name, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+            os.dup2(out, fd)
+        if fresh:
+            os.execve(sys.executable, [sys.executable, "-m", "cloth_tui", *args], _env())
+        from cloth_tui.cli import main
+        code = main(args)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    except BaseException:  # noqa: BLE001 - anything escaping main() is an exit 1
+        os._exit(1)
+
+
+def run_forked(seed: int, indices: list[int], bases: dict, timeout: float, jobs: int,
+               keep: Path | None):
+    """Yield run_one's results, up to `jobs` forked children at once (main thread only)."""
+    sys.path.insert(0, str(ROOT))
+    for module in ("cloth_tui.cli", "cloth_tui.meshes", "cloth_tui.mesh_files",
+                   "cloth_tui.io.usd_read", "cloth_tui.render.replay", "cloth_tui.sim.runner",
+                   "pyvista", "pxr.Usd"):
+        __import__(module)
+    todo, running = list(indices), {}
+    while todo or running:
+        while todo and len(running) < max(1, jobs):
+            index = todo.pop(0)
+            tmp = tempfile.TemporaryDirectory(prefix="cloth-fuzz-files-")
+            args, kind, op = make_case(seed, index, bases, Path(tmp.name))
+            sys.stdout.flush()
+            sys.stderr.flush()
+            pid = os.fork()
+            if pid == 0:
+                _child(args, Path(tmp.name), fresh=kind in BAKE_KINDS)
+            running[pid] = (index, kind, op, tmp, time.monotonic())
+        time.sleep(0.05)
+        for pid, (index, kind, op, tmp, t0) in list(running.items()):
+            done, status = os.waitpid(pid, os.WNOHANG)
+            late = not done and time.monotonic() - t0 > timeout
+            if late:
+                os.kill(pid, 9)
+                os.waitpid(pid, 0)
+            elif not done:
+                continue
+            del running[pid]
+            folder = Path(tmp.name)
+            code = None if late else os.waitstatus_to_exitcode(status)
+            err = "" if late else (folder / "stderr").read_text("utf-8", "replace")
+            yield _result(seed, index, kind, op, code, err, time.monotonic() - t0, folder,
+                          keep)
+            tmp.cleanup()
+
+
+def _result(seed, index, kind, op, code, err, seconds, folder: Path, keep) -> dict:
+    verdict = classify(code, err)
+    if keep is not None and verdict not in ("ok", "refused"):
+        keep.mkdir(parents=True, exist_ok=True)
+        for path in folder.iterdir():
+            if path.is_file() and path.name.startswith(("case", "scene", "stderr")):
+                (keep / f"{seed}-{index}-{path.name}").write_bytes(path.read_bytes())
     return {"index": index, "kind": kind, "mutation": op, "class": verdict, "exit": code,
             "seconds": round(seconds, 1),
             "stderr": err.strip().splitlines()[-1][:300] if err.strip() else ""}
@@ -294,6 +362,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=60.0, help="seconds per case")
     p.add_argument("--keep", type=Path, help="copy the files of each failing case here")
     p.add_argument("--json", action="store_true", help="one JSON object per case on stdout")
+    p.add_argument("--spawn", action="store_true",
+                   help="a fresh interpreter per case instead of a forked child")
     args = p.parse_args(argv)
     indices = [args.only] if args.only is not None else list(range(args.count))
     counts: dict[str, int] = {}
@@ -301,8 +371,9 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="cloth-fuzz-bases-") as tmp:
         bases = make_bases(Path(tmp), {case_kind(args.seed, i) for i in indices})
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            results = pool.map(lambda i: run_one(args.seed, i, bases, args.timeout, args.keep),
-                               indices)
+            results = (pool.map(lambda i: run_one(args.seed, i, bases, args.timeout, args.keep),
+                                indices) if args.spawn else
+                       run_forked(args.seed, indices, bases, args.timeout, args.jobs, args.keep))
             for r in results:
                 counts[r["class"]] = counts.get(r["class"], 0) + 1
                 failures += r["class"] not in ("ok", "refused")
