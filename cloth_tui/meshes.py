@@ -35,8 +35,8 @@ from .user_values import PathProblem, short_repr, user_path
 SUFFIXES = (".stl", ".obj", ".ply", ".vtk", ".vtp")
 MAX_FILE_BYTES = 200 * 1024 * 1024   # a larger file is refused before it is read
 MAX_TRIANGLES = 1_000_000            # a larger surface is refused
-# All of a scene's mesh objects together: a grid takes about 2 s per 300k triangles here, so
-# this bounds the start-up near 15 s (64 objects of 327k triangles took 130 s and 1.7 GB).
+# All of a scene's mesh objects together: each object's grid costs time in proportion to its
+# triangles (seconds per few hundred thousand), so this bounds the start-up to seconds.
 MAX_SCENE_TRIANGLES = 2_000_000
 MAX_CELLS = 64                       # per axis of the distance grid
 PAD_CELLS = 3                        # grid cells beyond the skin on every side

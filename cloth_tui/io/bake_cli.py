@@ -12,8 +12,7 @@ import re
 import sys
 from pathlib import Path
 
-from ..interrupt import Interrupt, Progress
-from ..interrupt import mesh_grid_progress
+from ..interrupt import Interrupt, Progress, mesh_grid_progress
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path

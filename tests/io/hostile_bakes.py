@@ -51,15 +51,19 @@ def recorded_scene(src: Path, out: Path, value) -> Path:
     return _save(stage, out)
 
 
-def alive_flags(src: Path, out: Path, count: int, frame: float = 2.0) -> Path:
+def alive_flags(src: Path, out: Path, count: int, last_count: int, frame: float = 2.0
+                ) -> Path:
+    """Torn flags of `count` at `frame`, and all intact, of `last_count`, at the last frame
+    (4): a check of the last frame alone sees nothing torn."""
     from pxr import Sdf, UsdGeom, Vt
     stage = _stage(src)
     prim = UsdGeom.Mesh.Get(stage, "/World/Cloth").GetPrim()
     attr = prim.CreateAttribute("cloth_tui:alive", Sdf.ValueTypeNames.UCharArray, custom=True)
-    attr.Set(Vt.UCharArray.FromNumpy(np.ones(count, np.uint8)), 1.0)
+    attr.Set(Vt.UCharArray.FromNumpy(np.ones(last_count, np.uint8)), 1.0)
     flags = np.ones(count, np.uint8)
     flags[::2] = 0
     attr.Set(Vt.UCharArray.FromNumpy(flags), frame)
+    attr.Set(Vt.UCharArray.FromNumpy(np.ones(last_count, np.uint8)), 4.0)
     return _save(stage, out)
 
 

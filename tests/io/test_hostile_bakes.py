@@ -68,8 +68,13 @@ def test_a_recorded_scene_that_is_not_text_is_refused(tmp_path, capfd, bake, val
 @pytest.mark.parametrize("command", ["render", "app"])
 def test_intact_flags_that_do_not_fit_the_sheet_are_refused(tmp_path, capfd, bake, count,
                                                             command):
-    refused(capfd, hostile.alive_flags(bake, tmp_path / "a.usda", count), "constraint flags",
-            command)
+    from cloth_tui.io.usd_read import UsdBake
+    from cloth_tui.sim.model import build_model
+
+    scene = UsdBake(bake).scene
+    fits = build_model(scene.cloth, scene.behavior).num_constraints
+    path = hostile.alive_flags(bake, tmp_path / "a.usda", count, last_count=fits)
+    refused(capfd, path, "cloth_tui:alive is not one 0/1 flag per constraint", command)
 
 
 @pytest.mark.parametrize("value, says", [
