@@ -116,6 +116,9 @@ def _obj(data: bytes, max_triangles: int):
                 face = []
                 for token in parts[1:]:
                     k = int(token.split(b"/", 1)[0])
+                    if abs(k) > MAX_VERTICES:
+                        raise MeshFileError(f"line {number}: vertex index {k}; a file has at "
+                                            f"most {MAX_VERTICES} vertices")
                     if k == 0:
                         raise MeshFileError(f"line {number}: vertex index 0 (OBJ counts "
                                             "from 1)")

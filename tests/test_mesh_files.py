@@ -48,6 +48,7 @@ HOSTILE = {
     "obj face index beyond the vertices": ("f.obj", obj([[1, 3, 2], [1, 2, 900], [1, 4, 3]]),
                                            "names vertex 900"),
     "obj index 0": ("g.obj", obj([[0, 1, 2]]), "index 0"),
+    "obj index 10^20": ("i.obj", obj([[1, 2, 10**20]]), "vertex index 100000000000000000000"),
     "stl binary count larger than the file": ("h.stl", b"\0" * 80 + (10**8).to_bytes(4, "little")
                                               + b"\0" * 100, "not an STL file"),
 }

@@ -48,6 +48,9 @@ class UsdBake:
         except Tf.ErrorException as e:  # a value USD itself cannot read
             raise UsageError(f"{self.path}: not a readable cloth-tui bake "
                              f"({checks.usd_reason(e)})") from None
+        except UnicodeDecodeError:  # a damaged string, turned into Python's str
+            raise UsageError(f"{self.path}: not a readable cloth-tui bake (a text value "
+                             "that is not UTF-8)") from None
 
     def _read(self) -> None:
         from pxr import UsdGeom
