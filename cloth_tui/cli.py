@@ -181,9 +181,11 @@ def cmd_simulate(args) -> int:
     if args.dump:
         check_output_path(Path(args.dump), (".npz",))
     from .compile_notice import CompileNotice
+    from .interrupt import mesh_grid_progress
     from .sim.runner import Simulation
 
-    sim = Simulation(scene)
+    with mesh_grid_progress(sys.stderr.isatty()):
+        sim = Simulation(scene)
     with CompileNotice(sys.stderr, sys.stderr.isatty()):
         sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
     sim.reset()
@@ -244,9 +246,23 @@ def cmd_app(args) -> int:
         return run_replay_app(Path(args.scene), args.overrides, Path(args.captures),
                               graphics=_detect_graphics(args))
     scene = apply_overrides(load(args.scene), args.overrides)
+    _build_mesh_grids(scene)
     graphics = _detect_graphics(args)
     from .tui.app import run_app
     return run_app(scene, Path(args.captures), graphics=graphics)
+
+
+def _build_mesh_grids(scene) -> None:
+    """Build the mesh objects' distance grids (cached) before the app takes the terminal:
+    their progress shows on it, and a bad mesh file is one line, as for any command."""
+    if not any(o.type == "mesh" for o in scene.objects):
+        return
+    from .interrupt import mesh_grid_progress
+    from .sim.mesh_collider import build_mesh_colliders
+    from .sim.model import build_model
+
+    with mesh_grid_progress(sys.stderr.isatty()):
+        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
 
 
 def _detect_graphics(args):

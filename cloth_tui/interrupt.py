@@ -4,6 +4,7 @@ progress bar on stderr when it is a terminal. No heavy imports."""
 
 from __future__ import annotations
 
+import contextlib
 import signal
 import sys
 import threading
@@ -64,4 +65,30 @@ class Progress:
     def end(self) -> None:
         if self.enabled:
             sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+@contextlib.contextmanager
+def mesh_grid_progress(enabled: bool):
+    """Within the `with`, each mesh object's distance grid, built as the simulation is,
+    is announced on one updating stderr line (when `enabled`: stderr is a terminal)."""
+    if not enabled:
+        yield
+        return
+    from . import meshes
+
+    shown = []
+
+    def show(text: str) -> None:
+        sys.stderr.write(f"\r{escape_controls(text)}…\x1b[K")
+        sys.stderr.flush()
+        shown.append(text)
+
+    meshes.progress = show
+    try:
+        yield
+    finally:
+        meshes.progress = None
+        if shown:
+            sys.stderr.write("\r\x1b[K")  # the line goes: the frame progress follows
             sys.stderr.flush()

@@ -1,7 +1,8 @@
 """Mesh colliders' data: a surface read from a file and the signed-distance grid around it.
 
-This module reads STL, OBJ, PLY and VTK surfaces with PyVista and samples VTK's implicit
-distance (vtkImplicitPolyDataDistance) on a regular grid. PyVista is imported only inside the
+This module takes the triangles of an STL, OBJ, PLY or VTK file from mesh_files (which checks
+them before any VTK code sees them) and samples VTK's implicit distance
+(vtkImplicitPolyDataDistance) on a regular grid. PyVista is imported only inside the
 functions that need it, so the physics (cloth_tui.sim), which receives the results as numpy
 arrays, loads no GL or VTK module unless a scene has a mesh.
 
@@ -23,19 +24,27 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .scene import SceneError
+from .user_values import PathProblem, short_repr, user_path
 
 SUFFIXES = (".stl", ".obj", ".ply", ".vtk", ".vtp")
 MAX_FILE_BYTES = 200 * 1024 * 1024   # a larger file is refused before it is read
 MAX_TRIANGLES = 1_000_000            # a larger surface is refused
+# All of a scene's mesh objects together: each object's grid costs time in proportion to its
+# triangles (seconds per few hundred thousand), so this bounds the start-up to seconds.
+MAX_SCENE_TRIANGLES = 2_000_000
 MAX_CELLS = 64                       # per axis of the distance grid
 PAD_CELLS = 3                        # grid cells beyond the skin on every side
+
+
+# Set by a command that shows progress on a terminal: called with one line (no newline)
+# before each distance grid is built, the slow part of starting a scene with meshes.
+progress: Callable[[str], None] | None = None
 
 
 @dataclass(frozen=True)
@@ -69,6 +78,19 @@ def rotation_matrix(degrees) -> np.ndarray:
     return rz @ ry @ rx
 
 
+def check_scene_meshes(objects) -> None:
+    """Refuse, before any grid is built, mesh objects that hold more than MAX_SCENE_TRIANGLES
+    triangles in all (each object counts: each gets its own grid). `objects` are
+    (where, SceneObject) pairs."""
+    total = 0
+    for where, obj in objects:
+        total += _read_surface(*_file_key(obj.path, where), where).n_cells
+        if total > MAX_SCENE_TRIANGLES:
+            raise SceneError(f"{where}: the scene's mesh objects hold {total} triangles up to "
+                             f"this one; at most {MAX_SCENE_TRIANGLES} in all are allowed "
+                             "(fewer or simpler meshes)")
+
+
 def field_for(obj, spacing: float, thickness: float, where: str = "objects") -> MeshField:
     """The distance grid of a `type = "mesh"` object for a sheet of this particle spacing."""
     key = _file_key(obj.path, where)
@@ -77,7 +99,10 @@ def field_for(obj, spacing: float, thickness: float, where: str = "objects") -> 
 
 
 def _file_key(path: str, where: str) -> tuple[str, int, int]:
-    p = Path(path).expanduser()
+    try:
+        p = user_path(path)
+    except PathProblem as e:
+        raise SceneError(f"{where}.path = {short_repr(path)}: {e}") from None
     if p.suffix.lower() not in SUFFIXES:
         raise SceneError(f"{where}.path = {path!r}: not a mesh file; expected one of "
                          f"{', '.join(SUFFIXES)}")
@@ -96,34 +121,24 @@ def _file_key(path: str, where: str) -> tuple[str, int, int]:
 @functools.lru_cache(maxsize=8)
 def _read_surface(path: str, size: int, mtime: int, where: str):
     """The file's closed triangle surface (a PyVista PolyData). size and mtime are part of
-    the cache key: an edited file is read again."""
+    the cache key: an edited file is read again. The file is parsed and checked by
+    mesh_files before VTK is given anything: VTK's readers crash on malformed files."""
     import pyvista as pv
-    from vtkmodules.vtkCommonCore import vtkObject
-    display = vtkObject.GetGlobalWarningDisplay()
-    vtkObject.GlobalWarningDisplayOff()  # a bad file reads as empty: one line below, not VTK's
+
+    from .mesh_files import MeshFileError, read_triangles
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # (e.g. pyvista casting integer points to float)
-            data = pv.read(path)
-    except Exception as e:  # VTK readers raise many kinds; any is a bad file to the user
-        raise SceneError(f"{where}.path = {path!r}: cannot read the mesh: "
-                         f"{str(e).splitlines()[0] if str(e) else type(e).__name__}") from None
-    finally:
-        vtkObject.SetGlobalWarningDisplay(display)
-    if not isinstance(data, pv.PolyData):
-        try:
-            data = data.extract_surface()
-        except Exception:
-            raise SceneError(f"{where}.path = {path!r}: not a surface mesh") from None
-    surface = data.triangulate().clean() if data.n_cells else data
+        vertices, triangles = read_triangles(path, MAX_TRIANGLES)
+    except MeshFileError as e:
+        raise SceneError(f"{where}.path = {path!r}: {e}") from None
+    except OSError as e:
+        raise SceneError(f"{where}.path = {path!r}: cannot read: {e.strerror}") from None
+    except MemoryError:
+        raise SceneError(f"{where}.path = {path!r}: too large to read into memory") from None
+    data = pv.PolyData(vertices, np.c_[np.full(len(triangles), 3), triangles].ravel())
+    surface = data.clean()
     if surface.n_points == 0 or surface.n_cells == 0 or surface.area <= 0.0:
         raise SceneError(f"{where}.path = {path!r}: no triangles (an empty or unreadable "
                          "mesh file)")
-    if surface.n_cells > MAX_TRIANGLES:
-        raise SceneError(f"{where}.path = {path!r}: {surface.n_cells} triangles; at most "
-                         f"{MAX_TRIANGLES} are allowed")
-    if not np.all(np.isfinite(surface.points)):
-        raise SceneError(f"{where}.path = {path!r}: the mesh has non-finite coordinates")
     bad_edges = surface.extract_feature_edges(boundary_edges=True, non_manifold_edges=True,
                                               feature_edges=False, manifold_edges=False)
     if bad_edges.n_cells:
@@ -145,11 +160,13 @@ def _inside(grid, surface) -> np.ndarray:
     return np.asarray(pv.wrap(select.GetOutput())["SelectedPoints"]).astype(bool)
 
 
-@functools.lru_cache(maxsize=4)  # a grid is up to ~70³ samples × 4 arrays: ≤ 11 MB
+@functools.lru_cache(maxsize=16)  # a grid is up to ~70³ samples × 4 arrays: ≤ 11 MB
 def _field(key: tuple, scale: float, rotation: tuple, spacing: float, thickness: float,
            where: str) -> MeshField:
     import pyvista as pv
     raw = _read_surface(*key, where)
+    if progress is not None:
+        progress(f"building the distance grid of {where} ({raw.n_cells} triangles)")
     surface = raw.copy()
     surface.points = (np.asarray(raw.points, dtype=np.float64) * scale) @ \
         rotation_matrix(rotation).T

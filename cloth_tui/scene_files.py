@@ -11,7 +11,7 @@ from typing import Any
 from .resources import builtin_scenes
 from .safe_text import escape_controls
 from .scene import Scene, SceneError, from_dict, split_key, to_dict
-from .user_values import short_repr
+from .user_values import PathProblem, short_repr, user_path
 from .util import atomic_write
 
 
@@ -76,8 +76,14 @@ def load(ref: str | os.PathLike) -> Scene:
     except OSError as e:
         raise SceneError(f"{path}: cannot read: {e.strerror}") from None
     scene = loads(text, name=path.stem)
-    for o in scene.objects:  # a mesh's path is relative to the scene file
-        if o.path and not Path(o.path).expanduser().is_absolute():
+    for k, o in enumerate(scene.objects):  # a mesh's path is relative to the scene file
+        if not o.path:
+            continue
+        try:
+            absolute = user_path(o.path).is_absolute()
+        except PathProblem as e:
+            raise SceneError(f"objects[{k}].path = {short_repr(o.path)}: {e}") from None
+        if not absolute:
             o.path = str(path.parent.resolve() / o.path)
     return scene
 

@@ -19,10 +19,14 @@ def check_output_path(path: Path, suffixes: tuple[str, ...]) -> None:
     path = Path(path)
     if path.suffix.lower() not in suffixes:
         raise UsageError(f"{path}: unsupported file type; use {', '.join(suffixes)}")
-    if path.is_dir():  # the final rename would fail only after all the work
-        raise UsageError(f"{path}: is a folder; name a file to write")
     folder = path.parent if str(path.parent) else Path(".")
-    if folder.exists() and not folder.is_dir():
+    try:
+        is_dir, folder_exists = path.is_dir(), folder.exists()
+    except OSError as e:  # a name longer than the file system allows
+        raise UsageError(f"{path}: {e.strerror or type(e).__name__}") from None
+    if is_dir:  # the final rename would fail only after all the work
+        raise UsageError(f"{path}: is a folder; name a file to write")
+    if folder_exists and not folder.is_dir():
         raise UsageError(f"{path}: {folder} is not a folder")
     if not folder.is_dir():
         raise UsageError(f"{path}: folder {folder} does not exist")

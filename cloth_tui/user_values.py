@@ -34,6 +34,21 @@ def short_repr(value: Any) -> str:
     return shown if len(shown) <= 60 else shown[:57] + "..."
 
 
+class PathProblem(ValueError):
+    """A file name that names no file whatever is on disk; the message says why."""
+
+
+def user_path(value: str) -> Path:
+    """`value` as a path with `~` expanded; PathProblem for a NUL byte (no file system takes
+    one) or `~nosuchuser/…` (no home folder to expand)."""
+    if "\0" in value:
+        raise PathProblem("a NUL byte in the file name")
+    try:
+        return Path(value).expanduser()
+    except RuntimeError:
+        raise PathProblem("no such user's home folder") from None
+
+
 def texture_file_problem(value: str) -> str | None:
     """Why the PNG path `value` cannot be a texture, or None if its header is acceptable."""
     try:

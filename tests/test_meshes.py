@@ -59,8 +59,8 @@ def make_bad(folder, kind):
 
 
 @pytest.mark.parametrize("kind, says", [
-    ("missing", "No such file"), ("garbage", "no triangles"), ("empty", "no triangles"),
-    ("broken_ply", "no triangles"), ("not_a_mesh", "not a mesh file"),
+    ("missing", "No such file"), ("garbage", "not an STL file"), ("empty", "no triangles"),
+    ("broken_ply", "claims 3 vertex"), ("not_a_mesh", "not a mesh file"),
     ("open", "not closed"), ("points_only", "no triangles")])
 def test_bad_mesh_files_exit_2_with_one_line(tmp_path, capfd, kind, says):
     scene = write_scene(tmp_path, make_bad(tmp_path, kind).name)
@@ -115,3 +115,43 @@ def test_the_distance_grid_stays_bounded_whatever_the_skin(torus, scale, thickne
                              spacing=1.0 / 226, thickness=thickness)
     assert max(field.distance.shape) <= meshes.MAX_CELLS + 2 * meshes.PAD_CELLS + 2
     assert field.cell * (max(field.distance.shape) - 1) >= 2 * thickness  # the skin is inside
+
+
+@pytest.mark.parametrize("mesh_path, says", [("a\\u0000b.stl", "a NUL byte in the file name"),
+                                             ("~nosuchuser/m.stl", "no such user's home")])
+def test_mesh_paths_no_file_system_takes_exit_2_with_one_line(tmp_path, capfd, mesh_path, says):
+    rc, out, err = simulate(capfd, write_scene(tmp_path, mesh_path))
+    assert rc == 2 and out == ""
+    assert err.count("\n") == 1 and "objects[0].path" in err and says in err, err
+
+
+def test_a_scene_whose_meshes_hold_too_many_triangles_is_refused_before_any_grid(tmp_path,
+                                                                                 capfd):
+    big = tmp_path / "big.stl"
+    pv.Icosphere(nsub=7).save(big)  # 327,680 triangles, as in the slow scene found
+    objects = "".join(f'[[objects]]\ntype = "mesh"\npath = "big.stl"\nscale = 0.1\n'
+                      f'center = [{0.3 * k - 1.0}, -0.5, 0.0]\n' for k in range(7))
+    scene = tmp_path / "many.toml"
+    scene.write_text(objects, encoding="utf-8")
+    rc, out, err = simulate(capfd, scene)
+    assert rc == 2 and out == "" and err.count("\n") == 1, err
+    assert f"at most {meshes.MAX_SCENE_TRIANGLES} in all" in err and "objects[6]" in err
+
+
+def test_each_grid_built_is_announced_on_a_terminal(tmp_path, capsys, torus):
+    from cloth_tui.interrupt import mesh_grid_progress
+    from cloth_tui.sim.mesh_collider import build_mesh_colliders
+    from cloth_tui.sim.model import build_model
+
+    scene = loads(f'[[objects]]\ntype = "mesh"\npath = "{torus}"\nscale = 0.7\n'
+                  f'center = [0.0, -0.3, 0.0]\n')
+    meshes._field.cache_clear()
+    with mesh_grid_progress(True):
+        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
+    err = capsys.readouterr().err
+    assert "building the distance grid of objects[0]" in err and "triangles" in err
+    assert err.endswith("\r\x1b[K")  # the line is cleared for what follows
+    with mesh_grid_progress(False):
+        meshes._field.cache_clear()
+        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
+    assert capsys.readouterr().err == ""

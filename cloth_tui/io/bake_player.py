@@ -23,9 +23,9 @@ def bake_model(bake: UsdBake, scene: Scene) -> ClothModel:
     if points != model.num_particles:
         raise UsageError(f"{bake.path}: its cloth has {points} points, its recorded scene "
                          f"makes {model.num_particles}")
-    alive = bake.alive(bake.frames[-1])  # a torn sheet's flags, one per constraint
-    if alive is not None and len(alive) != model.num_constraints:
-        raise UsageError(f"{bake.path}: its cloth has {len(alive)} constraint flags, its "
+    flags = bake.flag_count  # a torn sheet's flags, one per constraint, in every frame
+    if flags is not None and flags != model.num_constraints:
+        raise UsageError(f"{bake.path}: its cloth has {flags} constraint flags, its "
                          f"recorded scene makes {model.num_constraints} constraints")
     return model
 

@@ -12,6 +12,7 @@ from ..scene import SceneError
 from ..scene_files import loads
 from ..sim.protocols import ObjectPose
 from ..usage import UsageError
+from . import bake_checks as checks
 from .usd_bake import ALIVE_KEY, GRID_KEY, SCENE_KEY, USD_SUFFIXES, missing_usd_message
 
 CLOTH_PATH = "/World/Cloth"
@@ -23,66 +24,83 @@ def is_usd(path) -> bool:
 
 
 class UsdBake:
-    """A bake opened for reading. `frames` are its time codes, in order."""
+    """A bake opened for reading. `frames` are its time codes, in order. Everything read
+    from the file is checked once, on opening, every frame included (bake_checks): a bake is
+    user input, and a bad value found mid-render or mid-replay would cost the work done."""
 
     def __init__(self, path: Path):
         message = missing_usd_message()
         if message:
             raise UsageError(message)
-        from pxr import Usd, UsdGeom
+        from pxr import Tf
 
         self.path = Path(path)
-        if not self.path.is_file():
-            raise UsageError(f"{self.path}: no such file")
         try:
-            stage = Usd.Stage.Open(str(self.path))
-        except Exception as e:  # pxr's Tf.ErrorException: a broken or foreign file
-            raise UsageError(f"{self.path}: not a readable USD file "
-                             f"({str(e).strip().splitlines()[-1] if str(e).strip() else e})"
-                             ) from None
-        if stage is None:
-            raise UsageError(f"{self.path}: not a readable USD file")
-        self.stage = stage
+            exists, is_file = self.path.exists(), self.path.is_file()
+        except OSError as e:  # a name longer than the file system allows
+            raise UsageError(f"{self.path}: {e.strerror}") from None
+        if not is_file:  # a FIFO or a device would block or never end
+            raise UsageError(f"{self.path}: " + ("not a regular file" if exists else
+                                                 "no such file"))
+        try:
+            with checks.diagnostics_kept_off_the_terminal():
+                self._read()
+        except Tf.ErrorException as e:  # a value USD itself cannot read
+            raise UsageError(f"{self.path}: not a readable cloth-tui bake "
+                             f"({checks.usd_reason(e)})") from None
+        except UnicodeDecodeError:  # a damaged string, turned into Python's str
+            raise UsageError(f"{self.path}: not a readable cloth-tui bake (a text value "
+                             "that is not UTF-8)") from None
+
+    def _read(self) -> None:
+        from pxr import UsdGeom
+
+        self.stage = stage = checks.open_stage(self.path)
         text = stage.GetRootLayer().customLayerData.get(SCENE_KEY)
         cloth = UsdGeom.Mesh.Get(stage, CLOTH_PATH)
         if text is None or not cloth:
             raise UsageError(f"{self.path}: not a cloth-tui bake (no {CLOTH_PATH} mesh or "
                              f"no scene in its metadata)")
         try:
-            self.scene = loads(text, name=self.path.stem)
+            self.scene = loads(checks.scene_text(self.path, text), name=self.path.stem)
         except SceneError as e:
             raise UsageError(f"{self.path}: its recorded scene is invalid: {e}") from None
         self.points = cloth.GetPointsAttr()
         self._alive = cloth.GetPrim().GetAttribute(ALIVE_KEY)  # written once the sheet tore
-        grid = cloth.GetPrim().GetAttribute(GRID_KEY)
         # (nx, nz); None in a bake made before rectangular sheets (a square one)
-        self.grid = tuple(int(v) for v in grid.Get()) if grid and grid.HasValue() else None
-        self.frames = [int(round(t)) for t in self.points.GetTimeSamples()]
+        self.grid = _grid_of(self.path, cloth.GetPrim().GetAttribute(GRID_KEY))
+        self.frames = checks.time_codes(self.path, self.points.GetTimeSamples())
         if not self.frames:
             raise UsageError(f"{self.path}: the bake holds no frames")
-        self.frame_rate = float(stage.GetTimeCodesPerSecond())
+        self.frame_rate = checks.frame_rate(self.path, stage.GetTimeCodesPerSecond())
         self._objects = self._read_objects()
+        self._check_frames()
 
     def _read_objects(self) -> list:
-        from pxr import UsdGeom
-
         out = []
         root = self.stage.GetPrimAtPath(OBJECTS_PATH)
         if not root:
             return out
         for prim in root.GetChildren():
-            get = prim.GetAttribute
-            kind = get("cloth_tui:type").Get()
-            if kind is None:
-                continue
-            shape = dict(type=str(kind), radius=float(get("cloth_tui:radius").Get()),
-                         size=tuple(get("cloth_tui:size").Get()),
-                         normal=tuple(get("cloth_tui:normal").Get()),
-                         axis=tuple(get("cloth_tui:axis").Get()),
-                         length=float(get("cloth_tui:length").Get()))
-            translate = UsdGeom.Xformable(prim).GetOrderedXformOps()[0].GetAttr()
-            out.append((shape, translate))
+            shape = checks.object_shape(self.path, prim)
+            if shape is not None:
+                out.append((shape, checks.translate_op(self.path, prim)))
         return out
+
+    def _check_frames(self) -> None:
+        """Every frame's points (one count for all), intact flags and object centres."""
+        count = flags = None
+        torn = bool(self._alive) and self._alive.HasAuthoredValue()
+        for frame in self.frames:
+            count = len(checks.points(self.path, frame, self.points.Get(float(frame)), count))
+            if torn:
+                flags = len(checks.alive_flags(self.path, frame,
+                                               self._alive.Get(float(frame)), flags))
+            for _, translate in self._objects:
+                if checks.vector(translate.Get(float(frame))) is None:
+                    raise UsageError(f"{self.path}: frame {frame} places "
+                                     f"{translate.GetPrim().GetPath()} at no finite point")
+        self.flag_count = flags  # None: never torn
 
     def positions(self, frame: int) -> np.ndarray:
         """(N, 3) float64 points of the cloth at this frame (stored as float32)."""
@@ -99,3 +117,16 @@ class UsdBake:
     def objects(self, frame: int) -> tuple:
         return tuple(ObjectPose(center=tuple(map(float, translate.Get(float(frame)))), **shape)
                      for shape, translate in self._objects)
+
+
+def _grid_of(path, attribute) -> tuple[int, int] | None:
+    """The bake's recorded (nx, nz), checked as every value read from a bake is."""
+    if not attribute or not attribute.HasValue():
+        return None
+    try:
+        nx, nz = (int(v) for v in attribute.Get())
+    except (TypeError, ValueError, OverflowError):
+        nx = nz = 0
+    if not (2 <= nx <= 100_000 and 2 <= nz <= 100_000):
+        raise UsageError(f"{path}: its {GRID_KEY} is not two particle counts of at least 2")
+    return nx, nz

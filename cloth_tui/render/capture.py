@@ -167,7 +167,9 @@ class VideoWriter:
         try:
             self._encoder = imageio_ffmpeg.write_frames(
                 str(self.partial), self.encoded_size, fps=self.fps, codec="libx264",
-                quality=None, macro_block_size=1, ffmpeg_log_level="error",
+                # quiet: ffmpeg's stderr is ours (imageio-ffmpeg does not pipe it); its lines
+                # would land under the app's screen or beside our one-line error
+                quality=None, macro_block_size=1, ffmpeg_log_level="quiet",
                 output_params=[
                     "-crf", "20", "-preset", "veryfast",
                     # No lookahead/B-frames: frames leave x264 at once, not seconds later.

@@ -15,6 +15,7 @@ from pathlib import Path
 from ..compile_notice import CompileNotice
 from ..interrupt import Interrupt as _Interrupt
 from ..interrupt import Progress as _Progress
+from ..interrupt import mesh_grid_progress
 from ..io.usd_bake import USD_SUFFIXES
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, load
@@ -83,7 +84,8 @@ def run_render(args) -> int:
     from ..sim.runner import Simulation
     from .renderer import Renderer
 
-    sim = Simulation(scene)
+    with mesh_grid_progress(sys.stderr.isatty()):
+        sim = Simulation(scene)
     renderer = Renderer(scene, size)
     progress = _Progress(frames, sys.stderr.isatty())
     video = None
@@ -109,12 +111,13 @@ def run_render(args) -> int:
             if video is not None:
                 video.close()
         progress.end()
+    # The output cannot be written (a full disk, say): exit 2, as for a folder that refuses it.
     except CaptureError as e:
         progress.end()
         if video is not None:
             video.abort()
         print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
-        return 1
+        return 2
     finally:
         renderer.close()
     return interrupt.exit_status(

@@ -76,12 +76,13 @@ def run_replay(args, out: Path, size: tuple[int, int],
             if video is not None:
                 video.close()
         progress.end()
+    # The output cannot be written (a full disk, say): exit 2, as for a folder that refuses it.
     except CaptureError as e:
         progress.end()
         if video is not None:
             video.abort()
         print(escape_controls(f"cloth-tui: error: {e}"), file=sys.stderr)
-        return 1
+        return 2
     finally:
         renderer.close()
     return interrupt.exit_status(

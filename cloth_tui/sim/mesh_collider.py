@@ -117,6 +117,8 @@ class MeshCollider(ShapeCollider):
 def build_mesh_colliders(scene, model) -> list[MeshCollider]:
     """A collider for each `type = "mesh"` object of the scene, its grid sized to the sheet."""
     s = scene.scene
+    meshes.check_scene_meshes([(f"objects[{k}]", o) for k, o in enumerate(scene.objects)
+                               if o.type == "mesh"])
     out = []
     for k, o in enumerate(scene.objects):
         if o.type != "mesh":

@@ -29,6 +29,9 @@ from .timeline import Timeline
 # The live app's keys that mean something for a recording: no bumps, restarts or bakes.
 REPLAY_ACTIONS = ("quit", "toggle", "screenshot", "video", "orbit", "zoom", "reset_camera")
 REPLAY_BINDINGS = [b for b in APP_BINDINGS if b.action.split("(")[0] in REPLAY_ACTIONS]
+# The playback timer ticks at the bake's rate up to this; the player skips frames to keep the
+# motion's speed. (A timer at a bake's 10⁴ frames/s left no time for keys or SIGTERM.)
+MAX_TICK_HZ = 60.0
 
 
 class ReplayApp(ClothApp, inherit_bindings=False):
@@ -58,7 +61,7 @@ class ReplayApp(ClothApp, inherit_bindings=False):
         if not paused:
             self.player.play(time.monotonic())
         self._show_frame()
-        self.set_interval(1 / self.player.frame_rate, self._tick)
+        self.set_interval(1 / min(self.player.frame_rate, MAX_TICK_HZ), self._tick)
 
     def _tick(self) -> None:
         if self.player.advance(time.monotonic()):

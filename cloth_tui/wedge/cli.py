@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
 import time
 from pathlib import Path
@@ -15,7 +14,7 @@ from ..interrupt import EXIT_BY_SIGNAL, Interrupt, Progress
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, load
 from ..usage import UsageError, check_output_path
-from .engine import Engine, Failed, require_dask
+from .engine import Engine, Failed, require_dask, worker_count
 from .plan import plan, value_text
 
 VIDEO_FPS = 30
@@ -114,7 +113,7 @@ def run_wedge(args) -> int:
             return 1
     from .task import run_cell
 
-    workers = args.workers or max(1, min(os.cpu_count() or 1, len(cells)))
+    workers = worker_count(args.workers, len(cells))
     progress = Progress(len(cells), sys.stderr.isatty(), "wedge")
     finished = []
 
@@ -125,7 +124,8 @@ def run_wedge(args) -> int:
     started = time.perf_counter()
     with Interrupt() as interrupt:
         progress.show(0)
-        with Engine(workers, args.scheduler) as engine:
+        with Engine(workers, args.scheduler, stop=lambda: interrupt.signum is not None) \
+                as engine:
             startup = time.perf_counter() - started
             results = engine.run(run_cell, [(c.scene, frames, thumb, args.video) for c in cells],
                                  on_done, stop=lambda: interrupt.signum is not None)
@@ -151,9 +151,9 @@ def run_wedge(args) -> int:
         print(f"\n{done} of {len(cells)} runs in {elapsed:.1f} s ({startup:.1f} s of it starting "
               f"the cluster); " + ("no contact sheet" if sheet_error else
                                     f"contact sheet written to {out}"))
-    if sheet_error is not None:
+    if sheet_error is not None:  # the sheet cannot be written (a full disk): exit 2, as render
         print(escape_controls(f"cloth-tui: error: {sheet_error}"), file=sys.stderr)
-        return 1
+        return 2
     if interrupt.signum is not None:
         print(escape_controls(f"cloth-tui: {interrupt.name}: stopped after {done} of "
                               f"{len(cells)} runs; {'partial ' if done < len(cells) else ''}"

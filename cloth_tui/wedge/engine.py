@@ -2,6 +2,12 @@
 processes (one thread each) by default, or an existing scheduler by address; tasks submitted
 at once, results taken as they finish, with progress, retries and a clean cancel.
 
+Bounds: at most MAX_WORKERS_PER_CORE local workers per core (each is a Python process of
+about 120 MB; beyond that they only contend), and never more than there are tasks (the
+wedge's choice; see worker_count). A scheduler must speak within SILENT_S of accepting the
+connection (a Dask scheduler sends its handshake at once); a server that accepts and stays
+silent had the client wait for ever, deaf to Ctrl+C.
+
 A worker that dies (killed, out of memory) is replaced by its nanny and the scheduler runs its
 task again elsewhere (up to `distributed.scheduler.allowed-failures`, 3 by default); a task
 that raises is retried RETRIES times before it counts as failed.
@@ -13,7 +19,9 @@ import contextlib
 import logging
 import os
 import signal
+import socket
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -24,6 +32,63 @@ EXTRA_HINT = "pip install 'cloth-tui[wedge]'"
 RETRIES = 2                # a task that raises runs at most this many more times
 CONNECT_TIMEOUT = "10s"    # to an existing scheduler
 POLL_S = 0.2               # how often the wait for results looks at the stop flag
+SILENT_S = 10.0            # a scheduler that says nothing this long after accepting is not one
+MAX_WORKERS_PER_CORE = 4
+
+
+def max_workers() -> int:
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
+def check_workers(requested: int) -> None:
+    if requested > max_workers():
+        raise UsageError(f"--workers {requested}: at most {max_workers()} "
+                         f"({MAX_WORKERS_PER_CORE} per core of this machine)")
+
+
+def worker_count(requested: int | None, tasks: int) -> int:
+    """Local workers for `tasks` tasks: as asked (refused beyond max_workers()) but no more
+    than the tasks; by default one per core."""
+    if requested is not None:
+        check_workers(requested)
+    wanted = requested if requested is not None else (os.cpu_count() or 1)
+    return max(1, min(wanted, tasks))
+
+
+def hears_scheduler(address: str, stop: Callable[[], bool] = lambda: False) -> bool:
+    """Connect to a tcp:// scheduler and wait for its first bytes (a Dask scheduler sends its
+    handshake at once): UsageError if it refuses, closes or stays silent for SILENT_S;
+    False if `stop()` turned true meanwhile. Other schemes are left to Dask."""
+    scheme, _, rest = address.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    if scheme not in ("", "tcp") or not port.isdigit():
+        return True
+    where = f"--scheduler {address}"
+    try:
+        sock = socket.create_connection((host.strip("[]") or "127.0.0.1", int(port)),
+                                        timeout=SILENT_S)
+    except (OSError, OverflowError) as e:
+        raise UsageError(f"{where}: cannot connect: "
+                         f"{getattr(e, 'strerror', None) or e}") from None
+    deadline = time.monotonic() + SILENT_S
+    with sock:
+        sock.settimeout(POLL_S)
+        while not stop():
+            try:
+                data = sock.recv(1)
+            except TimeoutError:
+                if time.monotonic() > deadline:
+                    raise UsageError(f"{where}: accepted the connection but said nothing in "
+                                     f"{SILENT_S:g} s (not a Dask scheduler, or a hung one)"
+                                     ) from None
+                continue
+            except OSError as e:
+                raise UsageError(f"{where}: cannot connect: {e.strerror or e}") from None
+            if not data:
+                raise UsageError(f"{where}: closed the connection without a word (not a "
+                                 "Dask scheduler)")
+            return True
+    return False
 
 
 def require_dask(what: str = "wedge") -> None:
@@ -59,15 +124,22 @@ class Engine:
     """`with Engine(workers=2) as e: e.run(fn, calls)`; `scheduler="tcp://host:8786"` uses an
     existing cluster instead (its workers need cloth-tui installed)."""
 
-    def __init__(self, workers: int = 1, scheduler: str | None = None):
-        self.workers, self.scheduler = workers, scheduler
+    def __init__(self, workers: int = 1, scheduler: str | None = None,
+                 stop: Callable[[], bool] = lambda: False):
+        if not scheduler:
+            check_workers(workers)
+        self.workers, self.scheduler, self.stop = workers, scheduler, stop
         self.client = self.cluster = None
 
     def __enter__(self) -> "Engine":
+        """Connects or starts the cluster; if `stop()` turns true while a scheduler is
+        awaited, there is no client and run() returns every task as cancelled."""
         require_dask()
         import distributed
 
         if self.scheduler:
+            if not hears_scheduler(self.scheduler, self.stop):
+                return self
             try:
                 self.client = distributed.Client(self.scheduler, timeout=CONNECT_TIMEOUT)
             except (OSError, TimeoutError, ValueError, TypeError) as e:
@@ -101,6 +173,8 @@ class Engine:
         turned true. `on_done(i, result)` is called as each finishes."""
         import distributed
 
+        if self.client is None:  # stopped before the cluster answered
+            return [None] * len(calls)
         futures = [self.client.submit(fn, *args, pure=False, retries=RETRIES)
                    for args in calls]
         index = {f.key: i for i, f in enumerate(futures)}

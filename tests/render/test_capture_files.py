@@ -155,3 +155,16 @@ def test_gif_writer_stops_at_its_length(tmp_path, monkeypatch):
         video.write(np.zeros((8, 8, 3), np.uint8))
     with pytest.raises(CaptureError, match="at most 3 frames"):
         video.write(np.zeros((8, 8, 3), np.uint8))
+
+
+def test_an_mp4_render_on_a_full_disk_prints_one_line(tmp_path, capfd):
+    from cloth_tui.cli import main
+    from tests.small_disk import small_tmpfs
+
+    with small_tmpfs(tmp_path / "small", "16k") as disk:
+        rc = main(["render", "default", "-o", str(disk / "v.mp4"), "--frames", "60",
+                   "--size", "640x480", "--set", "cloth.resolution=10"])
+        err = capfd.readouterr().err
+        assert rc == 2 and err.count("\n") == 1, err  # ffmpeg's own lines do not reach it
+        assert "No space left on device" in err
+        assert not (disk / "v.mp4").exists()

@@ -156,3 +156,84 @@ def test_table_lists_every_run_with_its_status():
     text = format_table(rows, ["scene.friction"]).splitlines()
     assert len(text) == 3 and "1.20" in text[1] and "cancelled" in text[2]
     assert np.all([len(line) == len(text[0]) for line in text])
+
+
+@pytest.fixture
+def silent_server():
+    """A server that accepts connections and never says a word (nor closes them)."""
+    import socket
+    import threading
+
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+    stop, accepted = threading.Event(), threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+                accepted.set()
+            except OSError:
+                continue
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}", accepted
+    stop.set()
+    thread.join()
+    for conn in held:
+        conn.close()
+    server.close()
+
+
+def _wedge_on(address, tmp_path):
+    return subprocess.Popen([sys.executable, "-m", "cloth_tui", "wedge", "default", *TINY,
+                             "--vary", "scene.friction=0,1", "-o", str(tmp_path / "w.png"),
+                             "--scheduler", address], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def test_a_scheduler_that_accepts_and_never_answers_times_out_in_one_line(tmp_path,
+                                                                          silent_server):
+    proc = _wedge_on(silent_server[0], tmp_path)
+    try:
+        _, err = proc.communicate(timeout=90)
+    finally:
+        proc.kill()
+    assert proc.returncode == 2 and err.count("\n") == 1, err
+    assert "said nothing in 10 s" in err
+
+
+@pytest.mark.parametrize("sig, status", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+def test_signals_end_the_wait_for_a_silent_scheduler(tmp_path, silent_server, sig, status):
+    address, accepted = silent_server
+    proc = _wedge_on(address, tmp_path)
+    try:
+        assert accepted.wait(60), "the wedge never connected"
+        time.sleep(1)  # connected and waiting for a word (for 10 s)
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    assert proc.returncode == status and "stopped after 0 of 2 runs" in err, err
+    assert err.count("\n") == 1
+
+
+def test_workers_beyond_the_bound_are_refused_before_any_work(tmp_path, capsys):
+    from cloth_tui.wedge.engine import max_workers
+
+    rc = main(["wedge", "default", *TINY, "--vary", "scene.friction=0,1", "-o",
+               str(tmp_path / "w.png"), "--workers", "100000"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1
+    assert f"--workers 100000: at most {max_workers()}" in err
+    assert not (tmp_path / "w.png").exists()
+
+
+def test_no_more_workers_start_than_there_are_runs():
+    from cloth_tui.wedge.engine import max_workers, worker_count
+
+    assert worker_count(max_workers(), 2) == 2
+    assert worker_count(1, 5) == 1
+    assert 1 <= worker_count(None, 3) <= 3
