@@ -326,7 +326,7 @@ class Renderer:
         c, s = self._scene.cloth, self._scene.scene
         if not s.floor:
             return -MAX_ELEVATION
-        lowest_y = s.floor_height + ABOVE_FLOOR * max(c.size, 0.25)
+        lowest_y = s.floor_height + ABOVE_FLOOR * max(c.extent(), 0.25)
         sine = (lowest_y - self.target[1]) / max(distance, 1e-9)
         return float(np.clip(math.degrees(math.asin(np.clip(sine, -1.0, 1.0))),
                              -MAX_ELEVATION, MAX_ELEVATION))
