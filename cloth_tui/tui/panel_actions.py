@@ -54,35 +54,31 @@ class PanelActions:
             self.screen.focus_next()  # Enter: on to the next field
 
     def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
-        self._settle_objects(message)
-        if message.submitted:
-            self.release_keys()
-
-    def _settle_objects(self, message: ObjectsPanel.Changed) -> None:
-        try:
-            new = self.scene.with_objects(message.objects)
-            check_start(new)  # an object over a pinned particle: refused here, not by the sim
-        except SceneError as e:
-            self.notify(str(e), title="Object refused", severity="error", timeout=8)
-            if message.field is not None:
-                message.field.show(message.field.last_good)
-            return
-        self.apply_scene(new)
-        if message.submitted:
-            self.screen.focus_next()
+        # check_start: an object over a pinned particle is refused here, not by the sim
+        self._settle_list(message, lambda: self.scene.with_objects(message.objects),
+                          "Object refused")
 
     def on_pins_panel_changed(self, message: PinsPanel.Changed) -> None:
+        # check_start: groups that disagree, or a held particle inside an object
+        self._settle_list(message, lambda: self.scene.with_pins(message.pins),
+                          "Pin group refused")
+
+    def _settle_list(self, message, build, refused: str) -> None:
+        """Apply a list panel's edit, or refuse it and show the field's last good value; on
+        Enter, move on and let the keys typed after it through."""
         try:
-            new = self.scene.with_pins(message.pins)
-            check_start(new)  # groups that disagree, or a held particle inside an object
+            new = build()
+            check_start(new)
         except SceneError as e:
-            self.notify(str(e), title="Pin group refused", severity="error", timeout=8)
+            self.notify(str(e), title=refused, severity="error", timeout=8)
             if message.field is not None:
                 message.field.show(message.field.last_good)
-            return
-        self.apply_scene(new)
+        else:
+            self.apply_scene(new)
+            if message.submitted:
+                self.screen.focus_next()
         if message.submitted:
-            self.screen.focus_next()
+            self.release_keys()
 
     def on_controls_command(self, message: Controls.Command) -> None:
         if message.command == "restart":
