@@ -1,4 +1,21 @@
+import contextlib
+import io
 import os
+
+import pytest
 
 # Off-screen rendering through EGL; no X display on CI.
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def kernels_compiled(tmp_path_factory):
+    """Each test process compiles (or loads from numba's cache) the kernels of a render before
+    its first test. A first run's "compiling kernels" lines are right for a user, but a test
+    of what stderr says would count them: which test runs first in a worker is not fixed."""
+    from cloth_tui.cli import main
+
+    out = tmp_path_factory.mktemp("warm") / "warm.png"
+    with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+        # no GL here is not this fixture's failure: the tests that need it say so
+        main(["render", "default", "-o", str(out), "--frames", "2", "--size", "64x48"])
