@@ -13,7 +13,8 @@ from pathlib import Path
 
 from .usage import UsageError, check_output_path
 
-COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "wedge", "serve", "scenes")
+COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "lab", "wedge", "serve",
+            "scenes")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -136,6 +137,20 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--plot", metavar="OUT.png", help="draw the work-precision diagram")
     _add_dask_args(p)
 
+    from .lab.registry import TESTS as LAB_TESTS  # names only: the tests load when run
+    p = sub.add_parser("lab", help="the virtual textile lab: run a standard test on the "
+                                   "simulator against its computed expectation")
+    p.add_argument("test", help="; ".join(f"{k}: {v[2]}" for k, v in LAB_TESTS.items()))
+    p.add_argument("--material", metavar="NAME",
+                   help="a preset of the measured-fabric table (its areal density, stretch, "
+                        "shear and bending)")
+    p.add_argument("--resolutions", metavar="N,N,…",
+                   help="the resolutions to run (what N is depends on the test; default: "
+                        "three, coarse to fine)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="OUT.png",
+                   help="draw the error against resolution and against wall time")
+
     p = sub.add_parser("wedge", help="run SCENE over every combination of --vary values (on "
                                      "Dask) into a labelled contact sheet and a table")
     _add_scene_args(p)
@@ -226,6 +241,11 @@ def cmd_bench(args) -> int:
 def cmd_accuracy(args) -> int:
     from .bench.accuracy_cli import run_accuracy
     return run_accuracy(args)
+
+
+def cmd_lab(args) -> int:
+    from .lab.cli import run_lab
+    return run_lab(args)
 
 
 def cmd_wedge(args) -> int:

@@ -3,11 +3,10 @@ lumped masses, solved as an eigenproblem, converging to ω₁ = (j₀,₁/2)√(
 
 import math
 
-import numpy as np
 import pytest
 
 from cloth_tui.lab.chain import (bessel_j0, bessel_j0_zero, hanging_chain_omega,
-                                 hanging_chain_period)
+                                 hanging_chain_period, lumped_chain_omega)
 
 
 def test_the_zeros_of_j0():
@@ -30,25 +29,6 @@ def test_the_series_solves_bessels_equation(x):
 def test_the_period_of_a_one_metre_chain():
     assert hanging_chain_period(1.0, 9.81) == pytest.approx(1.668, abs=5e-4)
     assert hanging_chain_omega(4.0) == pytest.approx(hanging_chain_omega(1.0) / 2)
-
-
-def lumped_chain_omega(length, gravity, links):
-    """The lowest angular frequency of `links` equal links with the mass lumped at the
-    joints (half at the free end), hung from a pin: M ü = −K u with the tension of each link
-    the weight below it."""
-    h = length / links
-    m = np.full(links, 1.0)
-    m[-1] = 0.5
-    tension = gravity * np.array([m[k:].sum() for k in range(links)])  # link k above joint k
-    k = np.zeros((links, links))
-    for j in range(links):
-        k[j, j] += tension[j] / h
-        if j + 1 < links:
-            k[j, j] += tension[j + 1] / h
-            k[j, j + 1] -= tension[j + 1] / h
-            k[j + 1, j] -= tension[j + 1] / h
-    s = 1 / np.sqrt(m)
-    return math.sqrt(np.linalg.eigvalsh(s[:, None] * k * s[None, :]).min())
 
 
 def test_a_chain_of_lumped_masses_converges_to_the_bessel_mode():

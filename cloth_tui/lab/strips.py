@@ -1,0 +1,55 @@
+"""The lab's specimens: rectangular sheets of the scene format, held by pin groups (the
+clamps and hooks), and a timed run of the simulator on them."""
+
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+
+def particles_across(width: float, length: float, segments: int) -> int:
+    """Particles across a strip of `width` whose `length` has `segments` links: the count
+    whose spacing is nearest the links' (at least 2: a sheet needs two rows)."""
+    return max(2, round(width / length * segments) + 1)
+
+
+def strip_scene(*, size: list[float], resolution: list[int], pins: list[dict],
+                behavior: dict, material=None, cloth: dict | None = None):
+    """A validated Scene: the sheet `size` = [width (x), length (z)] m at `resolution` =
+    [nx, nz] particles, nothing pinned but `pins`, no floor, gravity 9.81 m/s². A material
+    gives the sheet its mass, areal density × area."""
+    from ..scene import from_dict
+
+    cloth_keys = {"size": list(size), "resolution": list(resolution), "pinned": "none",
+                  "mass_model": "area"} | (cloth or {})
+    if material is not None:
+        cloth_keys["mass"] = material.areal_density * size[0] * size[1]
+    return from_dict({"cloth": cloth_keys,
+                      "forces": {"gravity": True, "gravity_strength": 9.81, "wind": False},
+                      "scene": {"floor": False, "object": "none"},
+                      "behavior": {"adaptive": False} | behavior,
+                      "pins": pins}, "lab")
+
+
+def warmed_simulation(scene):
+    """A Simulation of `scene` whose kernels have run once (compiling or loading them is
+    not the test's wall time), started again from t = 0."""
+    from ..sim.runner import Simulation
+
+    sim = Simulation(scene)
+    sim.advance_frame()
+    sim.reset()
+    return sim
+
+
+def timed_frames(sim, frames: int, each: Callable | None = None) -> float:
+    """Runs `frames` frames, calling `each(sim)` after every one; returns the wall time of
+    the frames alone (s)."""
+    wall = 0.0
+    for _ in range(frames):
+        t0 = time.perf_counter()
+        sim.advance_frame()
+        wall += time.perf_counter() - t0
+        if each is not None:
+            each(sim)
+    return wall

@@ -1,0 +1,57 @@
+"""`cloth-tui lab`: its report, JSON and plot, and one line (exit 2) for bad input."""
+
+import json
+
+import pytest
+
+from cloth_tui.cli import main
+from cloth_tui.lab.cli import format_report, plot_convergence
+
+RESULT = {  # a made-up result of study.run's form, for the text and the plot alone
+    "test": "catenary", "summary": "a strip", "quantity": "sag", "unit": "m",
+    "resolution_meaning": "links along the strip", "setup": "pbd", "tolerance": 0.005,
+    "material": None, "elapsed_s": 1.0,
+    "cases": [{"label": "one case", "expected": 0.25, "params": {}, "order": 2.0,
+               "points": [{"resolution": n, "measured": 0.25 * (1 + 0.5 / n ** 2),
+                           "error": 0.5 / n ** 2, "wall_s": 0.01 * n, "max_stretch": 1e-5}
+                          for n in (8, 16, 32)]}]}
+
+
+def test_the_report_shows_each_resolution_against_the_bound():
+    text = format_report(RESULT)
+    assert "expected sag 0.25 m (computed)" in text
+    rows = [line.split() for line in text.splitlines() if line.strip()[:2] in ("8 ", "16", "32")]
+    assert [r[0] for r in rows] == ["8", "16", "32"]
+    assert [r[3] for r in rows] == ["NO", "yes", "yes"]  # 0.78 %, 0.20 %, 0.05 % vs 0.5 %
+    assert "p = 2.00" in text and "stretch" in text
+
+
+def test_the_plot_is_a_png(tmp_path):
+    out = tmp_path / "lab.png"
+    plot_convergence(RESULT, out)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_run_prints_json_and_draws(tmp_path, capsys):
+    out = tmp_path / "cat.png"
+    assert main(["lab", "catenary", "--resolutions", "4,8", "--json", "--plot", str(out)]) == 0
+    r = json.loads(capsys.readouterr().out)
+    (case,) = r["cases"]
+    assert [p["resolution"] for p in case["points"]] == [4, 8]
+    assert 0 < case["points"][1]["error"] < case["points"][0]["error"]  # sags more when coarse
+    assert case["order"] == pytest.approx(2.0, abs=0.5)
+    assert out.stat().st_size > 0
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["lab", "drap"], "'drap' is not a lab test; the tests are catenary"),
+    (["lab", "catenary", "--resolutions", "8,a"], "'a' is not an integer"),
+    (["lab", "catenary", "--resolutions", "1000"], "outside 4–256"),
+    (["lab", "swing", "--material", "felt"], "--material = 'felt' is not a preset"),
+    (["lab", "catenary", "--plot", "out.jpg"], "the plot is a PNG"),
+    (["lab"], "the following arguments are required: test"),
+])
+def test_bad_input_is_one_line(argv, says, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert says in err and err.count("\n") == 1 and "Traceback" not in err
