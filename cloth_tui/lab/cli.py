@@ -19,6 +19,10 @@ EXTRA_COLUMNS = {
     "max_stretch": ("stretch", ".1e"),
     "substeps": ("substeps", "d"),
     "crossings": ("crossings", "d"),
+    "overhang": ("overhang (m)", ".5g"),
+    "runs": ("runs", "d"),
+    "folds": ("folds", "d"),
+    "shadow_cm2": ("shadow (cm²)", ".1f"),
 }
 
 

@@ -14,21 +14,25 @@ def particles_across(width: float, length: float, segments: int) -> int:
 
 
 def strip_scene(*, size: list[float], resolution: list[int], pins: list[dict],
-                behavior: dict, material=None, cloth: dict | None = None):
+                behavior: dict, material=None, material_section: dict | None = None):
     """A validated Scene: the sheet `size` = [width (x), length (z)] m at `resolution` =
-    [nx, nz] particles, nothing pinned but `pins`, no floor, gravity 9.81 m/s². A material
-    gives the sheet its mass, areal density × area."""
+    [nx, nz] particles, nothing pinned but `pins`, no floor, gravity 9.81 m/s². A
+    `material_section` is the scene's [material] (the fabric simulated); else a `material`
+    gives the sheet only its mass, areal density × area."""
     from ..scene import from_dict
 
     cloth_keys = {"size": list(size), "resolution": list(resolution), "pinned": "none",
-                  "mass_model": "area"} | (cloth or {})
-    if material is not None:
+                  "mass_model": "area"}
+    sections = {}
+    if material_section is not None:
+        sections["material"] = material_section
+    elif material is not None:
         cloth_keys["mass"] = material.areal_density * size[0] * size[1]
     return from_dict({"cloth": cloth_keys,
                       "forces": {"gravity": True, "gravity_strength": 9.81, "wind": False},
                       "scene": {"floor": False, "object": "none"},
                       "behavior": {"adaptive": False} | behavior,
-                      "pins": pins}, "lab")
+                      "pins": pins} | sections, "lab")
 
 
 def warmed_simulation(scene):
