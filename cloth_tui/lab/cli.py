@@ -175,6 +175,9 @@ def plot_convergence(r: dict, path: Path) -> None:
         ax.set_yscale("log")
         ax.grid(True, which="both", alpha=0.25)
         ax.set_ylabel(f"|relative error| of the {r['quantity']}")
+    if ns:
+        by_n.set_xticks(ns, [str(n) for n in ns])
+        by_n.minorticks_off()
     by_n.set_xlabel(f"N ({r['resolution_meaning']})")
     by_wall.set_xlabel("wall time of the run (s)")
     by_n.legend(fontsize=7)

@@ -5,7 +5,7 @@ import json
 import pytest
 
 from cloth_tui.cli import main
-from cloth_tui.lab.cli import format_report, plot_convergence
+from cloth_tui.lab.cli import _ProgressLine, format_report, plot_convergence
 
 RESULT = {  # a made-up result of study.run's form, for the text and the plot alone
     "test": "catenary", "summary": "a strip", "quantity": "sag", "unit": "m",
@@ -55,3 +55,24 @@ def test_bad_input_is_one_line(argv, says, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert says in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+class _Notice:
+    def __init__(self):
+        self.finished = 0
+
+    def finish(self):
+        self.finished += 1
+
+
+def test_progress_shows_on_a_terminal_only(capsys):
+    notice = _Notice()
+    line = _ProgressLine("catenary", notice, enabled=True)
+    line(0, 2, "one case, N = 8")
+    line(2, 2, "done")
+    err = capsys.readouterr().err
+    assert "lab catenary: 0/2 runs, now one case, N = 8…" in err
+    assert err.endswith("lab catenary: 2/2 runs done\x1b[K\n")
+    assert notice.finished == 2  # a compile notice's line is ended before each update
+    _ProgressLine("catenary", _Notice(), enabled=False)(0, 2, "x")
+    assert capsys.readouterr().err == ""
