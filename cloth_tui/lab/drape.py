@@ -80,28 +80,39 @@ def _cases(material) -> list[Case]:
                  {"preset": m.preset}) for m in _materials(material)]
 
 
-def _measure(case: Case, n: int, material) -> Measurement:
-    from .clamped import material_table
+def specimen_pins(n: int) -> list[dict]:
+    """The support's pin group on an n × n grid: every particle within its radius, held."""
+    _, held, _, _ = disc_masks(n)
+    return [{"at": [[int(i), int(j)] for i, j in zip(*np.divmod(np.flatnonzero(held), n))]}]
 
-    m = next(x for x in _materials(material) if x.preset == case.params["preset"])
+
+def settle_disc(scene, n: int) -> dict:
+    """Cuts the disc out of `scene`'s n × n sheet (pinned by specimen_pins), lets it settle
+    for SETTLE_S and measures its hem: the drape coefficient, folds and shadow."""
     inside, held, hem, h = disc_masks(n)
-    at = [[int(i), int(j)] for i, j in zip(*np.divmod(np.flatnonzero(held), n))]
-    scene = strip_scene(size=[2 * SPECIMEN_RADIUS] * 2, resolution=[n, n],
-                        pins=[{"at": at}],
-                        behavior={"solver": "xpbd", "iterations": ITERATIONS,
-                                  "substeps": SUBSTEPS},
-                        material_section=material_table(m, SETTLE_DAMPING))
     sim = warmed_simulation(scene)
     cut_loose(sim, ~inside)
     wall = timed_frames(sim, math.ceil(SETTLE_S * scene.behavior.frame_rate))
     x = sim.state.x
-    ring = hem_order(n, hem)
     centre = x[held].mean(axis=0)
-    xz = x[ring][:, [0, 2]] - centre[[0, 2]]
+    xz = x[hem_order(n, hem)][:, [0, 2]] - centre[[0, 2]]
     area = shadow_area(xz)
-    return Measurement(drape_coefficient(area), {
-        "wall_s": wall, "folds": fold_count(xz), "shadow_cm2": area * 1e4,
-        "max_stretch": sim.stats()["max_stretch"]})
+    return {"drape_coefficient": drape_coefficient(area), "folds": fold_count(xz),
+            "shadow_cm2": area * 1e4, "wall_s": wall, "state": sim.state}
+
+
+def _measure(case: Case, n: int, material) -> Measurement:
+    from .clamped import material_table
+
+    m = next(x for x in _materials(material) if x.preset == case.params["preset"])
+    scene = strip_scene(size=[2 * SPECIMEN_RADIUS] * 2, resolution=[n, n],
+                        pins=specimen_pins(n),
+                        behavior={"solver": "xpbd", "iterations": ITERATIONS,
+                                  "substeps": SUBSTEPS},
+                        material_section=material_table(m, SETTLE_DAMPING))
+    r = settle_disc(scene, n)
+    return Measurement(r["drape_coefficient"], {k: r[k] for k in ("wall_s", "folds",
+                                                                  "shadow_cm2")})
 
 
 def cut_loose(sim, outside: np.ndarray) -> None:
