@@ -15,6 +15,9 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from .materials.errors import MaterialError
+from .materials.section import (MaterialSection, is_material_key, section_from_value,
+                                section_to_table, solver_problem, with_material_key)
 from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
                          groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
@@ -252,6 +255,7 @@ class Scene:
     appearance: Appearance = field(default_factory=Appearance)
     objects: list[SceneObject] = field(default_factory=list)
     pins: list[PinGroup] = field(default_factory=list)  # [[pins]]: pin_groups.py
+    material: MaterialSection | None = None  # [material]: materials/section.py
     name: str = field(default="default", compare=False)
 
     def copy(self) -> "Scene":
@@ -272,6 +276,9 @@ class Scene:
         for dotted, value in values.items():
             if dotted == "pins":  # the whole [[pins]] array (pin_groups.py)
                 new.pins = groups_from_list(value)
+                continue
+            if is_material_key(dotted):
+                new.material = _material(with_material_key, new.material, dotted, value)
                 continue
             section, name = split_key(dotted)
             sec = getattr(new, section)
@@ -435,6 +442,9 @@ def integrator_for(behavior: Behavior) -> str:
 def validate(scene: Scene) -> None:
     """Checks that involve more than one key."""
     b = scene.behavior
+    problem = solver_problem(scene.material, b.solver)
+    if problem:
+        raise SceneError(problem)
     if b.solver in ("pbd", "xpbd") and b.integrator not in ("auto", "verlet"):
         raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
                          f"\"springs\"; {b.solver} predicts positions with verlet")
@@ -527,9 +537,11 @@ def from_dict(data: dict, name: str = "scene") -> Scene:
                              for i, o in enumerate(v)]
         elif k == "pins":
             scene.pins = groups_from_list(v)
+        elif k == "material":
+            scene.material = _material(section_from_value, v)
         else:
             raise SceneError(f"unknown section [{k}]: allowed are {', '.join(SECTIONS)}, "
-                             "[[objects]], [[pins]]")
+                             "[[objects]], [[pins]], [material]")
     validate(scene)
     return scene
 
@@ -547,4 +559,14 @@ def to_dict(scene: Scene, only_changed: bool = False) -> dict:
         out["objects"] = [dataclasses.asdict(o) for o in scene.objects]
     if scene.pins:
         out["pins"] = [group_to_dict(g) for g in scene.pins]
+    if scene.material is not None:
+        out["material"] = section_to_table(scene.material)
     return out
+
+
+def _material(fn, *args) -> MaterialSection | None:
+    """A materials/section.py call, its MaterialError as a SceneError."""
+    try:
+        return fn(*args)
+    except MaterialError as e:
+        raise SceneError(str(e)) from None

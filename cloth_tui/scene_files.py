@@ -8,6 +8,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from .materials.section import is_material_key
 from .resources import builtin_scenes
 from .safe_text import escape_controls
 from .scene import Scene, SceneError, from_dict, split_key, to_dict
@@ -107,7 +108,8 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise SceneError(f"--set {text!r}: expected SECTION.KEY=VALUE")
     dotted, raw = text.split("=", 1)
     dotted, raw = dotted.strip(), raw.strip()
-    if dotted != "pins":  # `pins=[{...}, ...]` sets the whole [[pins]] array
+    # `pins=[{...}, ...]` sets the whole [[pins]] array; material keys: materials/section.py
+    if dotted != "pins" and not is_material_key(dotted):
         split_key(dotted)
     if raw == "":
         raise SceneError(f"--set {text!r}: missing value after '='")

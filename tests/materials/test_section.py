@@ -1,0 +1,66 @@
+"""The scene's [material] section: files, overrides, round trips and clear refusals."""
+
+import pytest
+
+from cloth_tui.materials.presets import get_preset
+from cloth_tui.scene import Scene, SceneError
+from cloth_tui.scene_files import apply_overrides, dumps, loads
+
+XPBD = '[behavior]\nsolver = "xpbd"\n'
+
+
+def test_a_preset_with_an_override_gives_the_preset_and_the_override():
+    s = loads('[material]\npreset = "denim"\ndamping = 0.5\n' + XPBD)
+    m, p = s.material.material, get_preset("denim")
+    assert (m.areal_density, m.stretch_warp, m.stretch_weft, m.bending) == \
+        (p.areal_density, p.stretch_warp, p.stretch_weft, p.bending)
+    assert m.damping == 0.5 and s.material.name == "denim"
+
+
+def test_no_section_and_original_are_the_same_scene():
+    assert loads("").material is None
+    assert loads('material = "original"') == loads("")
+    assert loads('[material]\npreset = "original"') == loads("")
+
+
+def test_a_scene_saved_says_what_its_author_wrote_and_loads_back_equal():
+    s = loads('[material]\npreset = "silk"\nstretch = [300, 200]\n' + XPBD)
+    text = dumps(s)
+    assert '[material]\npreset = "silk"\nstretch = [300, 200]\n' in text
+    assert loads(text) == s
+
+
+def test_overrides_change_one_key_and_a_new_preset_keeps_the_keys_given_beside_it():
+    s = loads('[material]\npreset = "denim"\ndamping = 0.5\n' + XPBD)
+    silk = apply_overrides(s, ["material.preset=silk"])
+    assert silk.material.table == {"preset": "silk", "damping": 0.5}
+    assert silk.material.material.areal_density == get_preset("silk").areal_density
+    assert apply_overrides(s, ["material=original"]).material is None
+    assert apply_overrides(s, ["material.preset=original"]).material is None
+    fresh = apply_overrides(Scene(), ["behavior.solver=xpbd", "material.preset=knit"])
+    assert fresh.material.material.preset == "knit"
+
+
+@pytest.mark.parametrize("text, words", [
+    ('[material]\npreset = "denimx"\n' + XPBD, "not a preset"),
+    ('[material]\npreset = "denim"\n', 'needs behavior.solver = "xpbd"'),
+    ('material = "denim"', 'material = "original" or a [material] table'),
+    ('material = 3', "must be a table"),
+    ('[material]\nstretch = 3\n' + XPBD, "missing: areal_density, shear, bending"),
+    ('[material]\npreset = "denim"\nbending = -1\n' + XPBD, "material.bending = -1"),
+    ('[material]\npreset = "denim"\nwarp = 1\n' + XPBD, "unknown key material.warp"),
+    ('[material]\npreset = "original"\ndamping = 1\n', "takes no other [material] keys"),
+])
+def test_bad_sections_are_refused_in_one_line_naming_the_key(text, words):
+    with pytest.raises(SceneError) as e:
+        loads(text)
+    assert words in str(e.value) and "\n" not in str(e.value)
+
+
+def test_a_refused_override_leaves_the_scene_as_it_was():
+    s = loads('[material]\npreset = "denim"\n' + XPBD)
+    with pytest.raises(SceneError, match="unknown key 'material.colour'"):
+        apply_overrides(s, ["material.colour=1"])
+    with pytest.raises(SceneError, match='needs behavior.solver = "xpbd"'):
+        s.with_value("behavior.solver", "pbd")
+    assert s.material.material.preset == "denim" and s.behavior.solver == "xpbd"
