@@ -289,15 +289,23 @@ def _particle(place, nx, width, block):
 
 
 @kernel(inline="always")
-def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, nx, width, block):
-    """Every pair of chunk q: the vector pass, then the rare coincident pairs."""
+def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, alpha_slots, nx, width, block):
+    """Every pair of chunk q: the vector pass, then the rare coincident pairs. α̃ is
+    `alpha_t` for every pair, or, when `alpha_slots` is not empty, each slot's own (a
+    material's compliance per edge)."""
     a0, b0, s0, count = chunks[q, 0], chunks[q, 1], chunks[q, 2], chunks[q, 3]
     xa, ya, za = P[0, a0:a0 + count], P[1, a0:a0 + count], P[2, a0:a0 + count]
     xb, yb, zb = P[0, b0:b0 + count], P[1, b0:b0 + count], P[2, b0:b0 + count]
     wa, wb = W[a0:a0 + count], W[b0:b0 + count]
     rest_q, alive_q, lam_q = rest[s0:s0 + count], alive[s0:s0 + count], lam[s0:s0 + count]
+    per_slot = alpha_slots.shape[0] > 0
     left = 0
-    if alpha_t == 0.0:
+    if per_slot:
+        alpha_q = alpha_slots[s0:s0 + count]
+        for t in range(count):
+            left += _pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q,
+                          alpha_q[t], True)
+    elif alpha_t == 0.0:
         for t in range(count):
             left += _pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, 0.0, False)
     else:
@@ -306,17 +314,18 @@ def _project_chunk(P, W, rest, alive, lam, chunks, q, alpha_t, nx, width, block)
                           True)
     if left:
         for t in range(count):
-            _crushed_pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q, alpha_t,
-                          alpha_t != 0.0, _particle(a0 + t, nx, width, block),
+            _crushed_pair(xa, ya, za, wa, xb, yb, zb, wb, t, rest_q, alive_q, lam_q,
+                          alpha_slots[s0 + t] if per_slot else alpha_t,
+                          per_slot or alpha_t != 0.0, _particle(a0 + t, nx, width, block),
                           _particle(b0 + t, nx, width, block))
 
 
 @kernel(inline="always")
-def _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam, alpha_t):
+def _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam, reset):
     """Positions into the layout; the constraints whose `alive` changed since the last call
     (tearing, a cut, an undo) into slot order (slots with no constraint stay 0): comparing
     in model order reads 2 bytes a constraint where a gather into every slot read 9. XPBD's
-    λ reset: it accumulates over one substep's passes."""
+    λ reset (`reset`): it accumulates over one substep's passes."""
     for p in range(grid_offset.shape[0]):
         g = grid_offset[p]
         P[0, g] = x[p, 0]
@@ -326,19 +335,19 @@ def _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam, alp
         if alive[e] != alive_seen[e]:
             alive_seen[e] = alive[e]
             slot_alive[edge_slot[e]] = alive[e]
-    if alpha_t != 0.0:
+    if reset:
         lam[:] = 0.0
 
 
 @kernel(inline="always")
-def _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t):
+def _end(P, x, grid_offset, slot_edge, lam, lambdas, keeps_lambda):
     """Positions back; XPBD's multipliers into model.edges order (PBD keeps none)."""
     for p in range(grid_offset.shape[0]):
         g = grid_offset[p]
         x[p, 0] = P[0, g]
         x[p, 1] = P[1, g]
         x[p, 2] = P[2, g]
-    if alpha_t != 0.0:
+    if keeps_lambda:
         for s in range(slot_edge.shape[0]):
             if slot_edge[s] >= 0:
                 lambdas[slot_edge[s]] = lam[s]
@@ -347,39 +356,57 @@ def _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t):
 @kernel(_nrt=False)
 def sweep_grid_colors(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks, slot_edge,
                       edge_slot, rest, alive_seen, slot_alive, lam, nx, width, block, alpha_t,
-                      iterations):
+                      alpha_slots, fresh, iterations):
     """`iterations` passes of coloured Gauss-Seidel over the grid, one thread, skipping torn
     constraints (alive[e] == 0). `lam` and `slot_alive` are scratch in slot order; XPBD's λ
     of this substep end in `lambdas`."""
-    _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam, alpha_t)
+    keeps_lambda = alpha_slots.shape[0] > 0 or alpha_t != 0.0
+    _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam,
+           keeps_lambda and fresh)
     for _ in range(iterations):
         for c in range(NUM_COLORS):
             for q in range(color_chunks[c], color_chunks[c + 1]):
-                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, nx, width,
-                               block)
-    _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, alpha_slots, nx,
+                               width, block)
+    _end(P, x, grid_offset, slot_edge, lam, lambdas, keeps_lambda)
 
 
 @kernel(parallel=True, _nrt=False)
 def sweep_grid_colors_parallel(x, alive, lambdas, P, W, grid_offset, chunks, color_chunks,
                                slot_edge, edge_slot, rest, alive_seen, slot_alive, lam, nx,
-                               width, block, alpha_t, iterations):
+                               width, block, alpha_t, alpha_slots, fresh, iterations):
     """The same sweeps with each colour's chunks split across threads (a barrier per
     colour)."""
-    _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam, alpha_t)
+    keeps_lambda = alpha_slots.shape[0] > 0 or alpha_t != 0.0
+    _begin(x, alive, P, grid_offset, edge_slot, alive_seen, slot_alive, lam,
+           keeps_lambda and fresh)
     for _ in range(iterations):
         for c in range(NUM_COLORS):
             for q in prange(color_chunks[c], color_chunks[c + 1]):
-                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, nx, width,
-                               block)
-    _end(P, x, grid_offset, slot_edge, lam, lambdas, alpha_t)
+                _project_chunk(P, W, rest, slot_alive, lam, chunks, q, alpha_t, alpha_slots, nx,
+                               width, block)
+    _end(P, x, grid_offset, slot_edge, lam, lambdas, keeps_lambda)
+
+
+NO_SLOT_ALPHAS = np.zeros(0)  # `alpha_slots` of the scalar path: one α̃ for every pair
 
 
 def sweep(kernel_fn, plan: SweepPlan, scratch: SweepScratch, x, alive, lambdas, alpha_t,
-          iterations) -> None:
+          iterations, alpha_slots: np.ndarray = NO_SLOT_ALPHAS, fresh: bool = True) -> None:
     """Runs `kernel_fn` (one of the two above) with `plan`'s arrays and a solver's scratch
-    (`plan.scratch()`, kept from call to call)."""
+    (`plan.scratch()`, kept from call to call). `alpha_slots` (from `slot_alphas`) gives
+    each pair its own α̃ in place of `alpha_t`; `fresh` = False goes on with the λ of the
+    last call (more passes of the same substep, between other constraints' passes)."""
     kernel_fn(x, alive, lambdas, plan.positions, plan.inv_mass, plan.grid_offset, plan.chunks,
               plan.color_chunks, plan.slot_edge, plan.edge_slot, plan.rest, scratch.alive_seen,
               scratch.slot_alive, scratch.lam, plan.nx, plan.width, plan.block, alpha_t,
-              iterations)
+              alpha_slots, fresh, iterations)
+
+
+def slot_alphas(plan: SweepPlan, alpha_tilde: np.ndarray) -> np.ndarray:
+    """Per-constraint α̃ (model.edges order) in slot order; slots without a constraint get
+    1 (their `alive` is 0, so it is never used)."""
+    out = np.ones(plan.slots)
+    real = plan.slot_edge >= 0
+    out[real] = np.asarray(alpha_tilde, dtype=np.float64)[plan.slot_edge[real]]
+    return out

@@ -11,6 +11,10 @@ Euler step of the elastic energy C²/(2α), so the material's stiffness is 1/α 
 number of iterations or the timestep. With α = 0 the update is PBD's projection exactly
 (Δx = −w C n / (w_a + w_b)), which instead gets stiffer with more iterations and smaller
 steps: one kernel serves both solvers (Ten Minute Physics' form).
+
+A material (sim/fabric.py) gives each constraint its own α from the fabric and the edge's
+rest geometry: then α̃ is an array, in the reference loop (`project_constraints_per_edge`)
+and in the sweeps alike; a scene without one keeps the scalar path unchanged.
 """
 
 from __future__ import annotations
@@ -19,8 +23,8 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import (COINCIDENT, coincident_direction, plan_sweeps, sweep,
-                          sweep_grid_colors, sweep_grid_colors_parallel)
+from .grid_sweeps import (COINCIDENT, NO_SLOT_ALPHAS, coincident_direction, plan_sweeps,
+                          slot_alphas, sweep, sweep_grid_colors, sweep_grid_colors_parallel)
 from .jit import kernel
 from .threads import KernelChoice
 
@@ -74,6 +78,20 @@ def project_constraints(x, inv_mass, edges, rest, alive, color_offsets, lam, alp
                                            lam[e], alpha_t)
 
 
+@kernel()
+def project_constraints_per_edge(x, inv_mass, edges, rest, alive, lam, alpha_t, iterations,
+                                 fresh):
+    """`project_constraints` with α̃ = alpha_t[e] per constraint (edges in colour order, as
+    there). `fresh` = False goes on with λ of the last call (the same substep)."""
+    if fresh:
+        lam[:] = 0.0
+    for _ in range(iterations):
+        for e in range(edges.shape[0]):
+            if alive[e]:
+                lam[e] += _project_one(x, inv_mass, edges[e, 0], edges[e, 1], rest[e], lam[e],
+                                       alpha_t[e])
+
+
 class ProjectConstraints:
     """Projects the constraints with grid_sweeps' colour sweeps, on one thread or two as
     threads.KernelChoice measures best now. `project_constraints` above is the same update
@@ -82,17 +100,23 @@ class ProjectConstraints:
 
     `lambdas` holds the multipliers λ of the last substep, N·s², one per constraint in
     model.edges order (the constraint force is λ/h²); zero for PBD (α = 0), which does not
-    keep them (the sweeps write PBD's into a scratch array)."""
+    keep them (the sweeps write PBD's into a scratch array). `compliance` is one α (m/N) for
+    every constraint, or an array of one per constraint (a material's); `alpha_tilde` is
+    α/h² as given, a float or that array."""
 
-    def __init__(self, model, iterations: int, compliance: float, h: float, name: str):
+    def __init__(self, model, iterations: int, compliance, h: float, name: str):
         self.name = name
         self.model = model
         self.iterations = iterations
-        self.alpha_t = compliance / (h * h)
+        per_edge = np.ndim(compliance) > 0
+        self.alpha_t = np.asarray(compliance, dtype=np.float64) / (h * h) if per_edge \
+            else compliance / (h * h)
         self.lambdas = np.zeros(model.num_constraints)
         self._plan = plan_sweeps(model.nx, model.nz, model.edges, model.color_offsets,
                                  model.rest_length, model.inv_mass)
         self._scratch = self._plan.scratch()
+        self._alpha_slots = slot_alphas(self._plan, self.alpha_t) if per_edge \
+            else NO_SLOT_ALPHAS
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(
             sweep_grid_colors,
@@ -106,6 +130,15 @@ class ProjectConstraints:
     def threads(self) -> int:
         return self.kernels.threads
 
+    @property
+    def alpha_tilde(self):
+        return self.alpha_t
+
     def apply(self, state, h):
+        self.project(state, self.iterations, fresh=True)
+
+    def project(self, state, iterations: int, fresh: bool) -> None:
+        """`iterations` passes; `fresh` starts the substep's λ at 0, False goes on with them."""
+        alpha_t = 0.0 if self._alpha_slots.shape[0] else self.alpha_t
         sweep(self.kernels, self._plan, self._scratch, state.x, state.alive, self.lambdas,
-              self.alpha_t, self.iterations)
+              alpha_t, iterations, self._alpha_slots, fresh)
