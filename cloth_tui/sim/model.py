@@ -12,8 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .fabric import Fabric, build_fabric, fabric_masses
 from .forces import wave_rows
 from .grid_sweeps import grid_colors
+from .material import Grid
 from .pins import PinLayout, layout
 
 FAMILIES = ("structural", "shear", "bending")
@@ -38,6 +40,7 @@ class ClothModel:
     tether_pin: np.ndarray | None = None     # (N,) index into `pinned` of the nearest pin, −1 none
     tether_length: np.ndarray | None = None  # (N,) m, rest distance to that pin
     pin_layout: PinLayout | None = None  # where pins hold (offsets, keys) and soft pins (pins.py)
+    fabric: Fabric | None = None  # the scene's [material] on this grid (fabric.py), or none
 
     @property
     def num_particles(self) -> int:
@@ -157,14 +160,16 @@ def nearest_pins(rest: np.ndarray, pins: np.ndarray, seed: int) -> tuple:
     return nearest, dist, pins if sampled else None
 
 
-def uses_tethers(behavior) -> bool:
+def uses_tethers(behavior, material=None) -> bool:
     """Tethers serve the position-based solvers, and only a sheet (some constraint family
     on) is inextensible enough for its pins to bound its particles. With springs, projecting positions the
     integrator then keeps moving adds energy (measured: +0.13 J a frame on the default 0.5 J
     sheet with implicit Euler, which the divergence guard rightly rejects). A sheet that may
     tear has none: a tether holds each particle within its flat-sheet distance of a pin, so
-    no pull could stretch the sheet to tearing, and a torn flap would hang on by nothing."""
-    return (behavior.tethers and behavior.solver != "springs" and not behavior.tear
+    no pull could stretch the sheet to tearing, and a torn flap would hang on by nothing.
+    A material has none either: a tether is no force of the fabric's, and would hold its
+    particles from stretching as the fabric does."""
+    return (material is None and behavior.tethers and behavior.solver != "springs" and not behavior.tear
             and (behavior.structural or behavior.shear or behavior.bending))
 
 
@@ -184,8 +189,12 @@ def particle_masses(nx: int, nz: int, total: float, mass_model: str = "area") ->
     return (cell * np.outer(row_share, col_share)).ravel()
 
 
-def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
-    """Build the model from the scene's [cloth] and [behavior] sections and its [[pins]]."""
+def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
+    """Build the model from the scene's [cloth] and [behavior] sections, its [[pins]] and
+    its material (materials.schema.Material, or None for the original's unitless keys).
+    A material replaces cloth.mass by density × area and the distance constraints'
+    families by its own: structural edges with an α each, shear cells and bending stencils
+    (fabric.py); diagonal and two-apart distance constraints are then not built."""
     nx, nz = cloth.grid_shape()
     width, length = cloth.dimensions()
     zz, xx = np.meshgrid(np.linspace(-length / 2, length / 2, nz),
@@ -193,6 +202,8 @@ def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
     rest = np.stack([xx.ravel(), np.full(nx * nz, cloth.height), zz.ravel()], axis=1)
 
     families = (behavior.structural, behavior.shear, behavior.bending)
+    if material is not None:
+        families = (behavior.structural, False, False)
     edges, family = grid_edges(nx, nz, families)
     colors = grid_colors(edges, nx)
     order = np.argsort(colors, kind="stable")
@@ -209,11 +220,15 @@ def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
     pins, pin_layout = layout(held, list(pin_groups), rest, nz, nx)
     if not pin_groups:
         pin_layout = None  # every pin held in place: the model's `pinned` says it all
-    mass = particle_masses(nx, nz, cloth.mass, cloth.mass_model)
+    grid = Grid.sheet(width, length, nx, nz)
+    fabric = None if material is None else build_fabric(material, grid, edges, behavior.shear,
+                                                        behavior.bending)
+    mass = (particle_masses(nx, nz, cloth.mass, cloth.mass_model) if fabric is None
+            else fabric_masses(material, grid))
     inv_mass = 1.0 / mass
     inv_mass[pins] = 0.0
     tether_pin = tether_length = None
-    if uses_tethers(behavior) and len(pins):
+    if uses_tethers(behavior, material) and len(pins):
         near, tether_length, sample = nearest_pins(rest, pins, behavior.seed)
         # index into `pins` (the model's pinned array), whichever subset was searched
         tether_pin = near if sample is None else np.searchsorted(pins, sample[near])
@@ -225,4 +240,4 @@ def build_model(cloth, behavior, pin_groups=()) -> ClothModel:
                       edges=np.ascontiguousarray(edges), rest_length=rest_length,
                       family=family, color_offsets=offsets, triangles=grid_triangles(nx, nz),
                       tether_pin=tether_pin, tether_length=tether_length,
-                      pin_layout=pin_layout)
+                      pin_layout=pin_layout, fabric=fabric)

@@ -42,6 +42,11 @@ MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the s
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
 
 
+def _material(scene: Scene):
+    """The scene's material (materials.schema.Material), None for the original's keys."""
+    return None if scene.material is None else scene.material.material
+
+
 def halt_advice(b: Behavior) -> str:
     """What to change when a frame diverges even at the guard's most substeps: only keys that
     matter to the solver in use, and no integrator the scene already has."""
@@ -90,7 +95,8 @@ class Simulation:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
         Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
         b = scene.behavior
-        new_model = build_model(scene.cloth, b, scene.pins) if model else self.model
+        new_model = build_model(scene.cloth, b, scene.pins, _material(scene)) if model \
+            else self.model
         check_held_particles(scene, new_model)  # before anything changes: a refusal keeps all
         self.scene = scene
         if model:
@@ -124,7 +130,9 @@ class Simulation:
                    for f in dataclasses.fields(getattr(scene, s))
                    if getattr(getattr(scene, s), f.name) != getattr(getattr(self.scene, s), f.name)}
         rebuild_model = bool(changed & MODEL_KEYS) or scene.pins != self.scene.pins \
-            or uses_tethers(scene.behavior) != uses_tethers(self.scene.behavior)
+            or scene.material != self.scene.material \
+            or uses_tethers(scene.behavior, _material(scene)) \
+            != uses_tethers(self.scene.behavior, _material(self.scene))
         self._rebuild(scene, model=rebuild_model)
         return rebuild_model
 

@@ -17,7 +17,9 @@ import math
 
 import numpy as np
 
+from .fabric_solve import ProjectFabric
 from .jit import kernel
+from .material import damping_factor as decay_factor
 from .protocols import Effect, ForceEffect
 from .stages import damping_factor
 from .xpbd import ProjectConstraints
@@ -78,9 +80,10 @@ def update_velocities(x, x_prev, v, inv_mass, inv_h, max_speed):
 class IntegrateVerlet:
     name = "integrate_verlet"
 
-    def __init__(self, model, damping: float, h: float, max_speed: float):
+    def __init__(self, model, damping: float, h: float, max_speed: float,
+                 keep: float | None = None):
         self.inv_mass = model.inv_mass
-        self.keep = damping_factor(damping, h)
+        self.keep = damping_factor(damping, h) if keep is None else keep
         self.max_speed = max_speed
 
     def apply(self, state, h):
@@ -103,18 +106,28 @@ class UpdateVelocities:
 class PositionBasedSolver:
     """PBD (compliance 0: rigid constraints, stiffer with more iterations) or XPBD
     (compliance α > 0: a material of stiffness 1/α). The force effects run as stages before
-    the verlet prediction, adding to state.accel."""
+    the verlet prediction, adding to state.accel. With a material (model.fabric, xpbd only)
+    the constraints are the fabric's, each with its own α (fabric_solve.ProjectFabric), and
+    the damping is its decay rate, exp(−damping·h) per substep."""
 
     def __init__(self, model, behavior, forces: list[ForceEffect], h: float):
         b = behavior
         self.name = b.solver
         xpbd = b.solver == "xpbd"
+        fabric = model.fabric
         self._integrate: list[Effect] = list(forces)
-        self._integrate.append(IntegrateVerlet(model, b.damping, h, b.max_speed))
-        self.projection = ProjectConstraints(
-            model, b.iterations, b.compliance if xpbd else 0.0, h,
-            name="project_xpbd_constraints" if xpbd else "project_constraints")
-        self._constraints: list[Effect] = [self.projection] if model.num_constraints else []
+        keep = None if fabric is None else decay_factor(fabric.material.damping, h)
+        self._integrate.append(IntegrateVerlet(model, b.damping, h, b.max_speed, keep))
+        if fabric is not None:
+            if not xpbd:
+                raise ValueError("a material's constraints are xpbd's (scene.validate says so)")
+            self.projection = ProjectFabric(model, b.iterations, h)
+            self._constraints: list[Effect] = [self.projection]
+        else:
+            self.projection = ProjectConstraints(
+                model, b.iterations, b.compliance if xpbd else 0.0, h,
+                name="project_xpbd_constraints" if xpbd else "project_constraints")
+            self._constraints = [self.projection] if model.num_constraints else []
         self._velocities = UpdateVelocities(model, b.max_speed)
 
     @property
@@ -122,6 +135,12 @@ class PositionBasedSolver:
         """Multipliers λ of the last substep, N·s², one per constraint (model.edges order);
         all zero for PBD, whose rigid constraints store no elastic energy."""
         return self.projection.lambdas
+
+    @property
+    def alpha_tilde(self):
+        """α/h² of the constraints (model.edges order): a float for every one alike, or an
+        array of one per constraint (a material's)."""
+        return self.projection.alpha_tilde
 
     def integrate(self) -> list[Effect]:
         return self._integrate
