@@ -190,11 +190,17 @@ class Behavior:
     iterations: int = key(4, "constraint passes per substep", lo=1, hi=1000)
     substeps: int = key(4, "substeps per frame (with adaptive: the fewest it uses)", lo=1,
                         hi=1000)
-    adaptive: bool = key(True, "raise the substeps when a frame stretches the cloth beyond "
-                         "stretch_tolerance, lower them again when there is slack")
-    stretch_tolerance: float = key(0.05, "largest stretch a frame may leave on any constraint, "
-                                   "as a share of its rest length (0.05: 5 %)", lo=0.001,
-                                   hi=10.0)
+    adaptive: bool = key(True, "raise the substeps when a frame's solve error exceeds "
+                         "error_tolerance (or its numerical damping energy_tolerance), lower "
+                         "them again when there is slack")
+    error_tolerance: float = key(0.05, "largest solve error a frame may leave on any "
+                                 "constraint, |C + α̃λ| as a share of its rest length: how far "
+                                 "from the material's own equilibrium (pbd: the stretch; 0.05: "
+                                 "5 %)", lo=0.001, hi=10.0)
+    energy_tolerance: float = key(0.0, "largest numerical damping a frame may show: share of "
+                                  "the sheet's free energy lost per second that no damping key "
+                                  "asked for (0.05: 5 %/s, about 10 % over 2 s); 0: unbounded",
+                                  unit="1/s", lo=0.0, hi=100.0)
     max_substeps: int = key(128, "adaptive: the most substeps per frame it may use",
                             lo=1, hi=1000)
     # lo: a frame of at most 1 s; the app waits one frame period of wall time per frame
@@ -282,7 +288,7 @@ class Scene:
                 continue
             section, name = split_key(dotted)
             sec = getattr(new, section)
-            setattr(sec, name, _coerce(sec, name, value, dotted))
+            setattr(sec, name, _coerce(sec, name, value, renamed(dotted)))
         validate(new)
         return new
 
@@ -308,8 +314,19 @@ def all_keys() -> list[str]:
     return [f"{s}.{f.name}" for s in SECTIONS for f in dataclasses.fields(SECTION_TYPES[s])]
 
 
+# Keys renamed, old name → new, still accepted in files and overrides. The tolerance bounds
+# the solve's error, which for pbd is the stretch the old name bounded.
+RENAMED_KEYS = {"behavior.stretch_tolerance": "behavior.error_tolerance"}
+
+
+def renamed(dotted: str) -> str:
+    """How an error names a key: a renamed one by both names."""
+    new = RENAMED_KEYS.get(dotted)
+    return f"{dotted} (now {new})" if new else dotted
+
+
 def split_key(dotted: str) -> tuple[str, str]:
-    parts = dotted.split(".")
+    parts = RENAMED_KEYS.get(dotted, dotted).split(".")
     if len(parts) != 2 or parts[0] not in SECTION_TYPES:
         raise SceneError(f"unknown key {dotted!r}: expected SECTION.KEY with SECTION one of "
                          f"{', '.join(SECTIONS)}")
@@ -515,9 +532,11 @@ def _section_from_dict(cls: type, data: Any, where: str) -> Any:
     obj = cls()
     names = [f.name for f in dataclasses.fields(cls)]
     for k, v in data.items():
+        shown = renamed(f"{where}.{k}")
+        k = RENAMED_KEYS.get(f"{where}.{k}", f"{where}.{k}")[len(where) + 1:]
         if k not in names:
             raise SceneError(f"unknown key {where}.{k}: [{where}] has {', '.join(names)}")
-        setattr(obj, k, _coerce(obj, k, v, f"{where}.{k}"))
+        setattr(obj, k, _coerce(obj, k, v, shown))
     return obj
 
 

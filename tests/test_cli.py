@@ -28,11 +28,14 @@ def test_simulate_default_reports_finite_sheet():
 def test_simulate_json_reports_the_tolerance_and_what_it_took():
     rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
                        "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
-                       "behavior.iterations=1", "--set", "behavior.stretch_tolerance=0.03")
+                       "behavior.iterations=1", "--set", "behavior.error_tolerance=0.03")
     assert rc == 0, err
     s = json.loads(out)
-    assert s["stretch_tolerance"] == 0.03 and s["tolerance_met"] is True
+    assert s["error_tolerance"] == 0.03 and s["tolerance_met"] is True
     assert s["substeps_used"] > 1 and s["max_stretch"] <= 0.03
+    # the error bounded and the stretch the fabric shows are reported apart (pbd: equal)
+    assert s["solver"] == "pbd" and 0.0 <= s["error"] <= 0.03
+    assert "numerical_damping" in s and s["energy_tolerance"] is None
     rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
                        "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
                        "behavior.iterations=1", "--set", "behavior.max_substeps=1")

@@ -71,6 +71,19 @@ def test_malformed_overrides_raise_scene_error(bad):
         sf.apply_overrides(Scene(), [bad])
 
 
+def test_the_renamed_tolerance_key_still_loads_as_the_error_tolerance(tmp_path):
+    # behavior.stretch_tolerance bounded the stretch; for pbd that is the solve error the
+    # tolerance now bounds, so old files and overrides mean what they meant
+    path = tmp_path / "old.toml"
+    path.write_text("[behavior]\nstretch_tolerance = 0.02\n", encoding="utf-8")
+    assert sf.load(path).behavior.error_tolerance == 0.02
+    s = sf.apply_overrides(Scene(), ["behavior.stretch_tolerance=0.03"])
+    assert s.behavior.error_tolerance == 0.03
+    assert "error_tolerance = 0.03" in sf.dumps(s) and "stretch_tolerance" not in sf.dumps(s)
+    with pytest.raises(SceneError, match="error_tolerance"):
+        sf.apply_overrides(Scene(), ["behavior.stretch_tolerance=0"])
+
+
 def test_with_value_leaves_original_untouched():
     s = Scene()
     with pytest.raises(SceneError):

@@ -12,8 +12,17 @@ left out of every measure: they hold no energy and their length is a gap, not a 
              C²/(2α) would count it as stored energy (with α = 1e-8 m/N, kilojoules)
     pbd      none: rigid constraints store no energy
 
-The residual of xpbd, max |C + α̃λ| over the constraints (α̃ = α/h²), is reported apart as
-`constraint_error` (m): how far the solve is from the compliant equilibrium it aims at.
+The solve's error (`solve_error`) is how far a frame ends from the equilibrium the solver
+aims at, per constraint |C + α̃λ| / L0 (C = L0 − L, α̃ = α/h² per constraint, λ the last
+substep's multiplier), the max over the intact constraints: for xpbd the residual of the
+implicit step of the material's own elastic energy, so a fabric that stretches under load
+as its compliance says has error 0; for pbd (α = 0, λ unused) it is |C|/L0, the stretch,
+since the rigid constraint's equilibrium is its rest length. The adaptive substep control
+bounds this, not the stretch.
+
+Numerical damping (`free_energy`, and the runner's bookkeeping) is energy lost that no key
+asked for, as a share of the energy the sheet could still give up: the total above the
+lowest it could reach (`potential_floor`), per second.
 Kernels here keep IEEE semantics (no fastmath) because a NaN must show as NaN.
 """
 
@@ -81,17 +90,82 @@ def spring_energy(x, edges, rest, alive, k) -> float:
 
 
 @kernel(fastmath=False)
-def xpbd_residual(x, edges, rest, alive, lambdas, alpha_tilde) -> float:
-    """max |C + α̃λ| over the intact constraints, m (0 when the compliant solve converged)."""
+def max_solve_error(x, edges, rest, alive, lambdas, alpha_tilde) -> float:
+    """max |C + α̃λ| / L0 over the intact constraints (C = L0 − L; α̃ per constraint); NaN if
+    any length is NaN. One pass, no temporaries: the controller's measure after every frame."""
     worst = 0.0
     for e in range(edges.shape[0]):
         if not alive[e]:
             continue
         # λ is accumulated with C = L0 − L in the projection (xpbd.py), hence the signs
-        r = abs(rest[e] - edge_length(x, edges, e) - alpha_tilde * lambdas[e])
+        r = abs(rest[e] - edge_length(x, edges, e) - alpha_tilde[e] * lambdas[e]) / rest[e]
+        if r != r:
+            return r
         if r > worst:
             worst = r
     return worst
+
+
+def per_constraint(values, count: int) -> np.ndarray:
+    """A scalar or per-constraint α̃ (or λ) as a contiguous (count,) float64 array (an array
+    already so is returned as it is)."""
+    arr = np.asarray(values, dtype=np.float64)
+    if arr.ndim == 0:
+        return np.full(count, float(arr))
+    if arr.shape != (count,):
+        raise ValueError(f"expected one value per constraint ({count}), got {arr.shape}")
+    return np.ascontiguousarray(arr)
+
+
+def solve_error(model: ClothModel, x: np.ndarray, alive: np.ndarray,
+                lambdas: np.ndarray | None, alpha_tilde) -> float:
+    """max |C + α̃λ| / L0 (module docstring): `lambdas` the last substep's multipliers (None:
+    none kept, as pbd), `alpha_tilde` α/h² per constraint or one for all (0 for pbd). Pass
+    per-constraint arrays to allocate nothing."""
+    m = model.num_constraints
+    if not m:
+        return 0.0
+    lam = np.zeros(m) if lambdas is None else per_constraint(lambdas, m)
+    return float(max_solve_error(x, model.edges, model.rest_length, alive, lam,
+                                 per_constraint(alpha_tilde, m)))
+
+
+@kernel(fastmath=False)
+def _kinetic(mass, v) -> float:
+    total = 0.0
+    for i in range(v.shape[0]):
+        total += mass[i] * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2])
+    return 0.5 * total
+
+
+@kernel(fastmath=False)
+def _weighted_height(mass, x) -> float:
+    total = 0.0
+    for i in range(x.shape[0]):
+        total += mass[i] * x[i, 1]
+    return total
+
+
+@kernel(fastmath=False)
+def _xpbd_elastic(lambdas, alpha_tilde, h2) -> float:
+    """Σ ½ α f² with f = λ/h² and α = α̃h²: Σ ½ α̃ λ²/h²."""
+    total = 0.0
+    for e in range(lambdas.shape[0]):
+        total += alpha_tilde[e] * lambdas[e] * lambdas[e]
+    return 0.5 * total / h2
+
+
+@kernel(fastmath=False)
+def _lowest_heights(mass, anchors, nearest, distance, floor, skin) -> float:
+    """Σ m_i · (the lowest y particle i can reach): its nearest pin's anchor less its flat
+    distance to it, and no lower than the floor's skin (when `floor`)."""
+    total = 0.0
+    for i in range(mass.shape[0]):
+        y = anchors[nearest[i], 1] - distance[i]
+        if floor and y < skin:
+            y = skin
+        total += mass[i] * y
+    return total
 
 
 def stretch(model: ClothModel, x: np.ndarray, alive: np.ndarray | None = None
@@ -125,21 +199,24 @@ def _stretch_max_mean(x, edges, rest, alive):
 
 def kinetic_energy(model: ClothModel, state: ClothState) -> float:
     """½ Σ m v², J."""
-    return 0.5 * float(np.dot(model.mass, np.einsum("ij,ij->i", state.v, state.v)))
+    return float(_kinetic(model.mass, state.v))
 
 
 def gravitational_energy(model: ClothModel, state: ClothState, scene: Scene) -> float:
     """Σ m g y (height from y = 0), J; 0 without gravity."""
     if not scene.forces.gravity:
         return 0.0
-    return scene.forces.gravity_strength * float(np.dot(model.mass, state.x[:, 1]))
+    return scene.forces.gravity_strength * float(_weighted_height(model.mass, state.x))
 
 
 def elastic_energy(model: ClothModel, state: ClothState, scene: Scene,
-                   lambdas: np.ndarray | None = None, h: float = 0.0) -> float:
+                   lambdas: np.ndarray | None = None, h: float = 0.0,
+                   alpha_tilde=None) -> float:
     """Elastic energy by the solver's force estimate (module docstring), J. For xpbd,
     `lambdas` are the last substep's multipliers and `h` its length; without them (before
-    any substep) the constraints have exerted no force yet."""
+    any substep) the constraints have exerted no force yet. `alpha_tilde`: α/h² of the
+    constraints, one for all or per constraint (an array allocates nothing);
+    behavior.compliance/h² when None."""
     b = scene.behavior
     if not model.num_constraints:
         return 0.0
@@ -147,25 +224,43 @@ def elastic_energy(model: ClothModel, state: ClothState, scene: Scene,
         return float(spring_energy(state.x, model.edges, model.rest_length, state.alive,
                                    b.stiffness))
     if b.solver == "xpbd" and lambdas is not None and h > 0.0:
-        f = lambdas / (h * h)
-        return 0.5 * b.compliance * float(np.dot(f, f))
+        h2 = h * h
+        alpha_tilde = per_constraint(b.compliance / h2 if alpha_tilde is None else alpha_tilde,
+                                     len(lambdas))
+        return float(_xpbd_elastic(lambdas, alpha_tilde, h2))
     return 0.0
 
 
 def energy(model: ClothModel, state: ClothState, scene: Scene,
-           lambdas: np.ndarray | None = None, h: float = 0.0) -> float:
+           lambdas: np.ndarray | None = None, h: float = 0.0, alpha_tilde=None) -> float:
     """Kinetic + gravitational + elastic energy, J."""
     return (kinetic_energy(model, state) + gravitational_energy(model, state, scene)
-            + elastic_energy(model, state, scene, lambdas, h))
+            + elastic_energy(model, state, scene, lambdas, h, alpha_tilde))
 
 
-def constraint_error(model: ClothModel, state: ClothState, scene: Scene,
-                     lambdas: np.ndarray | None, h: float) -> float | None:
-    """xpbd only: max |C + α̃λ| (m), the part of the constraint error that the elastic energy
-    above leaves out. None for the other solvers or before any substep."""
-    if scene.behavior.solver != "xpbd" or lambdas is None or h <= 0.0 \
-            or not model.num_constraints:
-        return None
-    alpha_tilde = scene.behavior.compliance / (h * h)
-    return float(xpbd_residual(state.x, model.edges, model.rest_length, state.alive, lambdas,
-                               alpha_tilde))
+def potential_floor(model: ClothModel, state: ClothState, scene: Scene,
+                    pin_distance: np.ndarray | None, nearest_pin: np.ndarray | None
+                    ) -> float | None:
+    """A lower bound of the gravitational energy the sheet could reach (J): each particle no
+    lower than its nearest pin's anchor minus its flat-sheet distance to that pin (the sheet
+    does not stretch), nor than the floor's skin. None when nothing bounds it (no pins, no
+    floor: the sheet may fall for ever), and 0 without gravity."""
+    if not scene.forces.gravity:
+        return 0.0
+    s = scene.scene
+    skin = s.floor_height + s.thickness
+    g = scene.forces.gravity_strength
+    if pin_distance is not None and len(state.anchors):
+        return g * float(_lowest_heights(model.mass, state.anchors, nearest_pin, pin_distance,
+                                         s.floor, skin))
+    if s.floor:
+        return g * skin * float(model.mass.sum())
+    return None
+
+
+def free_energy(total: float, floor: float, model: ClothModel) -> float:
+    """The energy the sheet could still give up, J: its total above `floor`
+    (potential_floor). Never below a millionth of the sheet's weight times its size, so a
+    sheet at rest divides by something."""
+    tiny = 1e-6 * max(float(model.mass.sum()) * 9.81 * model.extent, 1e-12)
+    return max(total - floor, tiny)

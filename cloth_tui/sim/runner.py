@@ -13,14 +13,16 @@ import numpy as np
 
 from ..scene import Behavior, Scene, SceneError, integrator_for
 from . import pipeline
-from .measures import (all_finite, constraint_error, elastic_energy, energy,
-                       gravitational_energy, kinetic_energy, max_stretch, stretch)
+from .measures import (all_finite, elastic_energy, energy, free_energy,
+                       gravitational_energy, kinetic_energy, per_constraint, potential_floor,
+                       solve_error, stretch)
 from .held_contacts import check_held_particles
-from .model import ClothModel, build_model, uses_tethers
+from .model import ClothModel, build_model, nearest_pins, uses_tethers
 from .pins import with_user_pin
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
+from .stages import damping_factor
 from .tearing import cut_between
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
@@ -40,6 +42,12 @@ STRETCH_CONVERGED = 0.1
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
+# A particle closer than this many skins to a collider may be in contact, whose friction and
+# inelastic contacts lose energy the numerical damping must not be blamed for.
+CONTACT_SKINS = 2.0
+# The reported numerical damping is averaged over about this many frames (a swing's
+# exchange of kinetic and potential energy is not exact frame by frame).
+DAMPING_AVERAGE_FRAMES = 30
 
 
 def _material(scene: Scene):
@@ -112,16 +120,32 @@ class Simulation:
         self.halted: str | None = None  # why stepping stopped, if it did
         # Springs stretch as their stiffness says, whatever the step: there the tolerance is
         # reported, and substeps are the guard's business alone.
-        self.control = SubstepController(b.stretch_tolerance, b.substeps, b.max_substeps,
-                                         adaptive=b.adaptive and b.solver != "springs")
-        self.frame_stretch = 0.0  # max stretch after the last frame (when it was measured)
+        self.control = SubstepController(b.error_tolerance, b.substeps, b.max_substeps,
+                                         adaptive=b.adaptive and b.solver != "springs",
+                                         energy_tolerance=b.energy_tolerance or None)
+        self.frame_error = 0.0  # solve error after the last frame (when it was measured)
+        self.frame_damping: float | None = None  # its numerical damping, 1/s (if measurable)
+        self.numerical_damping: float | None = None  # averaged over recent frames, 1/s
+        self._frame_energy: float | None = None  # energy at the end of the last frame, J
         self._guard_level = 0
         self._sources = has_energy_source(scene)
+        self._find_nearest_pins()
         self._build_step()
 
     def _build_step(self) -> None:
         self.step = pipeline.build(self.scene, self.model,
                                    self.control.substeps << self._guard_level)
+        self._alpha_tilde = None  # per constraint, for the step just built (when asked)
+
+    def _find_nearest_pins(self) -> None:
+        """Each particle's nearest hard pin and flat-sheet distance to it: what bounds how
+        low the sheet can hang (measures.potential_floor)."""
+        m = self.model
+        self._nearest_pin = self._pin_distance = None
+        if len(m.pinned):
+            near, dist, sample = nearest_pins(m.rest_positions, m.pinned, self.scene.behavior.seed)
+            self._nearest_pin = near if sample is None else np.searchsorted(m.pinned, sample[near])
+            self._pin_distance = dist
 
     def set_scene(self, scene: Scene) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
@@ -151,6 +175,7 @@ class Simulation:
         if self._finite():  # (a state broken between frames falls back further)
             self._good.restore(self.state)  # the frame's start, with bumps since the last
         e0 = self._energy_scale() if self._watch_energy() else None
+        e_start = self._energy_at_start()
         self.step.frame(self.state)
         while not self.halted:
             problem = self._problem(e0)
@@ -159,7 +184,7 @@ class Simulation:
             if problem:
                 self._recover()
                 continue
-            redo = self._redo_for_accuracy()
+            redo = self._redo_for_accuracy(e_start)
             if redo is None:
                 break
             self.state.restore(self._good)
@@ -169,10 +194,11 @@ class Simulation:
         # stand where they were at t = 0 until they first run.
         if self.step.colliders:
             self.penetration = max(self.penetration, self.step.penetration(self.state.x))
-        if self.control.adaptive and not self.halted:
+        if not self.halted:  # (not adaptive: it only records whether the frame met them)
             planned = self.control.substeps
-            if self.control.accept(self.frame_stretch) != planned:
+            if self.control.accept(self.frame_error, self.frame_damping) != planned:
                 self._build_step()
+        self._average_damping()
         if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0 and not self.halted:
             self._guard_level -= 1  # try fewer substeps again now and then
             self._build_step()
@@ -180,13 +206,87 @@ class Simulation:
         self.wall_s += self.last_step_s
         self.frames += 1
 
-    def _redo_for_accuracy(self) -> int | None:
-        """Measure the frame's stretch (only where the controller needs it) and ask."""
+    def _redo_for_accuracy(self, e_start: float | None) -> int | None:
+        """Measure the frame's solve error and numerical damping and ask the controller."""
+        self.frame_damping = self._frame_damping(e_start)
         if not self.control.adaptive or not self.model.num_constraints:
             return None
-        self.frame_stretch = float(max_stretch(self.state.x, self.model.edges,
-                                               self.model.rest_length, self.state.alive))
-        return self.control.redo_with(self.frame_stretch)
+        self.frame_error = self._solve_error()
+        return self.control.redo_with(self.frame_error)
+
+    # -- numerical damping ------------------------------------------------------------------
+    def _damping_measurable(self) -> bool:
+        """Whether all the energy a frame loses is either asked for (behavior.damping) or
+        numerical: no source adds any, no contact or soft pin takes any, and the sheet's
+        lowest reachable energy is bounded (pins or a floor)."""
+        sc, m = self.scene, self.model
+        if self._sources or sc.behavior.self_collision != "off" or not self.step.effects:
+            return False
+        if sc.behavior.solver == "springs" and sc.behavior.spring_damping > 0.0:
+            return False
+        if m.pin_layout is not None and len(m.pin_layout.soft.index):
+            return False
+        return self._pin_distance is not None or sc.scene.floor or not sc.forces.gravity
+
+    def _touching(self) -> bool:
+        x = self.state.x
+        return any(float(c.signed_distance(x).min()) < CONTACT_SKINS * c.thickness
+                   for c in self.step.colliders)
+
+    def _energy_at_start(self) -> float | None:
+        if not self._damping_measurable():
+            self._frame_energy = None
+            return None
+        if self._frame_energy is None:
+            self._frame_energy = self._energy()
+        return self._frame_energy
+
+    def _frame_damping(self, e_start: float | None) -> float | None:
+        """Numerical damping of the frame just run, 1/s: the energy it lost beyond what
+        behavior.damping took, as a share of the free energy at its start per second.
+        None where it cannot be told apart (_damping_measurable, or a contact)."""
+        if e_start is None or self.state.torn != self._good.torn or self._touching():
+            self._frame_energy = None
+            return None
+        floor = potential_floor(self.model, self._good, self.scene, self._pin_distance,
+                                self._nearest_pin)
+        if floor is None:
+            return None
+        e_end = self._energy()
+        self._frame_energy = e_end
+        lost = e_start - e_end - self._asked_damping_loss()
+        dt = 1.0 / self.scene.behavior.frame_rate
+        return lost / (free_energy(e_start, floor, self.model) * dt)
+
+    def free_energy(self) -> float | None:
+        """The energy the sheet could still give up now, J (measures.free_energy), or None
+        where nothing bounds how low it can go."""
+        floor = potential_floor(self.model, self.state, self.scene, self._pin_distance,
+                                self._nearest_pin)
+        return None if floor is None else free_energy(self._energy(), floor, self.model)
+
+    def _asked_damping_loss(self) -> float:
+        """The kinetic energy behavior.damping took over the frame, J: per substep v ← k·v
+        takes (1 − k²) of it; taken at the mean of the frame's start and end."""
+        d = self.scene.behavior.damping
+        if d == 0.0:
+            return 0.0
+        k = damping_factor(d, self.step.h)
+        mean_ke = 0.5 * (kinetic_energy(self.model, self._good)
+                         + kinetic_energy(self.model, self.state))
+        return self.step.substeps * (1.0 - k * k) * mean_ke
+
+    def _average_damping(self) -> None:
+        """The reported numerical damping: an average over recent frames (None while not
+        measurable)."""
+        d = self.frame_damping
+        if d is None or self.halted:
+            self.numerical_damping = None
+            return
+        if self.numerical_damping is None:
+            self.numerical_damping = d
+        else:
+            self.numerical_damping += (d - self.numerical_damping) / DAMPING_AVERAGE_FRAMES
 
     def _watch_energy(self) -> bool:
         return self.scene.behavior.solver == "springs" and not self._sources
@@ -271,6 +371,7 @@ class Simulation:
         w[m.inv_mass[idx] == 0.0] = 0.0
         self.state.x[idx] += w[:, None] * d
         self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
+        self._frame_energy = None  # the user's push is no numerical damping
 
     def pin(self, particle: int, position) -> None:
         """Hold `particle` exactly at `position` until the sheet is rebuilt (the app's pin
@@ -293,6 +394,8 @@ class Simulation:
         st.v[particle] = 0.0
         self.model = model
         self._good, self._trial = st.copy(), st.copy()
+        self._find_nearest_pins()
+        self._frame_energy = None  # the pin moved a particle: a jump no step made
         self._build_step()
 
     def cut(self, p0: int, p1: int) -> int:
@@ -311,8 +414,26 @@ class Simulation:
             return solver.lambdas
         return None
 
+    def _alpha_tilde_now(self) -> np.ndarray:
+        """α̃ = α/h² of the step's constraints, one per constraint (0 for pbd and springs),
+        made once per step."""
+        if self._alpha_tilde is None:
+            solver = self.step.solver
+            xpbd = (self.scene.behavior.solver == "xpbd"
+                    and isinstance(solver, PositionBasedSolver))
+            self._alpha_tilde = per_constraint(solver.projection.alpha_t if xpbd else 0.0,
+                                               self.model.num_constraints)
+        return self._alpha_tilde
+
+    def _solve_error(self) -> float:
+        solver = self.step.solver  # pbd keeps a λ array too (zeros), so nothing is allocated
+        lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
+        return solve_error(self.model, self.state.x, self.state.alive, lambdas,
+                           self._alpha_tilde_now())
+
     def _energy(self) -> float:
-        return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h)
+        return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h,
+                      self._alpha_tilde_now())
 
     def frame_stats(self) -> dict:
         """The statistics cheap enough for every frame."""
@@ -328,8 +449,9 @@ class Simulation:
             "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
             "substeps_used": self.step.substeps,            # adaptive or recovering: ≠ asked
             "wall_s": self.wall_s,
+            "numerical_damping": self.numerical_damping,   # 1/s, None: not measurable
         } | ({"tolerance_met": self.control.met,            # of the last frame
-              "frame_stretch": self.frame_stretch}          # what the controller measured
+              "frame_error": self.frame_error}              # what the controller measured
              if self.control.adaptive else {})
 
     def stats(self) -> dict:
@@ -338,7 +460,8 @@ class Simulation:
         max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
                          else (float("nan"),) * 2)
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
-        lambdas = self._lambdas()
+        error = (self._solve_error() if finite and self.scene.behavior.solver != "springs"
+                 else None)
         out = {
             "particles": self.model.num_particles,
             "constraints": self.model.num_constraints,
@@ -347,15 +470,18 @@ class Simulation:
             "max_speed": float(speed.max()),
             "max_stretch": max_s,
             "mean_stretch": mean_s,
-            "stretch_tolerance": self.scene.behavior.stretch_tolerance,
-            "energy": energy(self.model, self.state, self.scene, lambdas, self.step.h),
-            "constraint_error": constraint_error(self.model, self.state, self.scene, lambdas,
-                                                 self.step.h),
+            "solver": self.scene.behavior.solver,
+            "error": error,                                 # solve error, share of L0
+            # springs have no constraint solve to be off its equilibrium: nothing to bound
+            "error_tolerance": None if error is None else self.scene.behavior.error_tolerance,
+            "energy_tolerance": self.control.energy_tolerance,
+            "energy": self._energy(),
             "penetration": self.penetration,
             "effects": self.step.names,
         } | self.frame_stats()
         if not self.control.adaptive:
-            out["tolerance_met"] = bool(max_s <= self.control.tolerance)
+            out["tolerance_met"] = (None if error is None and self.control.energy_tolerance is None
+                                    else self.control.meets(error or 0.0))
         return out
 
     def snapshot(self, stats: dict | None = None) -> Snapshot:

@@ -1,18 +1,35 @@
-"""Accuracy the user sets: substeps chosen so that a frame's stretch stays within a tolerance.
+"""Accuracy the user sets: substeps chosen so that a frame's solve error (and, if asked, the
+run's numerical damping) stays within a tolerance.
 
-The error measure is the frame's max stretch |L/L0 − 1| (the visible error of a position-based
-solve), the step control is the number of substeps, as in an adaptive ODE solver (Macklin
-et al. 2019, "Small steps": the stretch left by a fixed number of passes falls about as h²):
+The error measure is the frame's solve error e = max |C + α̃λ|/L0 (measures.solve_error: how
+far the frame ends from the material's own equilibrium; for pbd the stretch |L/L0 − 1|), the
+step control is the number of substeps, as in an adaptive ODE solver (Macklin et al. 2019,
+"Small steps": the error left by a fixed number of passes falls about as h²):
 
-- a frame whose max stretch s exceeds the tolerance τ is redone with
-  n' = ⌈n · √(s/τ) · SAFETY⌉ substeps (at least n + 1, at most MAX_RAISE·n, never above the
+- a frame whose error e exceeds the tolerance τ is redone with
+  n' = ⌈n · √(e/τ) · SAFETY⌉ substeps (at least n + 1, at most MAX_RAISE·n, never above the
   cap), until it meets τ or runs at the cap; at the cap it is accepted and reported unmet;
-- after SLACK_FRAMES frames in a row without a redo, the count is lowered to what the worst
-  stretch s_w of those frames predicts, ⌈n · √(s_w · SAFETY/τ)⌉ (at most halved, never below
-  the scene's own `substeps`). It aims at τ/SAFETY, and the window and that margin together
-  keep the count from oscillating (at worst one redo per window).
+- after SLACK_FRAMES frames in a row without a change, the count is lowered to what the
+  worst error e_w of those frames predicts, ⌈n · √(e_w · SAFETY/τ)⌉ (at most halved, never
+  below the scene's own `substeps`). It aims at τ/SAFETY, and the window and that margin
+  together keep the count from oscillating (at worst one redo per window).
 
-Plain Python, no kernels: the runner measures s and asks.
+With an energy tolerance τ_E, the numerical damping d (the share of the sheet's free energy
+lost per second that no damping key asked for; the runner measures it per frame) is bounded
+too. One frame's d is not a measure of the step: a swing trades kinetic for potential
+energy, and the last substep's velocity misreads the kinetic part by ± a large share, so
+the control acts on the mean d̄ over the frames since the count last changed, and redoes
+nothing (the energy a frame lost is not the frame's error alone):
+
+- after at least ENERGY_FRAMES such frames with d̄ > τ_E, the next frames get
+  n' = ⌈n · d̄ · ENERGY_SAFETY/τ_E⌉ (at least n + 1, at most MAX_RAISE·n, never above the cap); d
+  falls about as h (measured on a swinging sheet: roughly as n^−0.8), so taking it as order
+  1 raises a little more than needed rather than less;
+- the lowering above also keeps n · d̄ · ENERGY_SAFETY/τ_E, and waits ENERGY_SLACK_FRAMES instead:
+  the damping comes in bursts (a swing's free edge whipping round), which a quiet
+  half-second does not foresee.
+
+Plain Python, no kernels: the runner measures e and d and asks.
 """
 
 from __future__ import annotations
@@ -22,47 +39,91 @@ from dataclasses import dataclass
 
 SAFETY = 1.25      # aim a little under the tolerance, so a raised frame rarely needs a redo
 MAX_RAISE = 4      # at most ×4 substeps per redo: a single wild frame cannot jump to the cap
-SLACK_FRAMES = 30  # frames in a row without a redo before lowering (0.5 s at 60 Hz)
+SLACK_FRAMES = 30  # frames in a row without a change before lowering (0.5 s at 60 Hz)
+ENERGY_FRAMES = 6  # frames of numerical damping averaged before the count is raised for it
+# Numerical damping is aimed at τ_E/ENERGY_SAFETY: its bursts (below) overshoot a mean that
+# was just met.
+ENERGY_SAFETY = 2.0
+# With an energy tolerance, frames without a change before lowering (2 s at 60 Hz): numerical
+# damping comes in bursts (a swing's free edge whipping round loses more in a few frames
+# than the quiet half-second before it), so a quiet window predicts too few substeps.
+ENERGY_SLACK_FRAMES = 120
 
 
 @dataclass
 class SubstepController:
-    tolerance: float        # τ, share of rest length
+    tolerance: float        # τ on the solve error, share of rest length
     floor: int              # the scene's substeps: never fewer
     cap: int                # never more
-    adaptive: bool = True   # False: report whether τ is met, change nothing
+    adaptive: bool = True   # False: report whether the tolerances are met, change nothing
+    energy_tolerance: float | None = None  # τ_E on numerical damping, 1/s; None: unbounded
     substeps: int = 0       # current count (the floor until the first raise)
-    met: bool = True        # whether the last accepted frame met τ
-    slack_frames: int = 0   # frames since the last raise or lowering
-    window_stretch: float = 0.0  # worst stretch over those frames
+    met: bool = True        # whether the last accepted frame met the tolerances
+    slack_frames: int = 0   # frames since the count last changed
+    window_error: float = 0.0    # worst error over those frames
+    damping_sum: float = 0.0     # Σ d over those of them where it was measured
+    damping_frames: int = 0      # how many they are
 
     def __post_init__(self) -> None:
         self.cap = max(self.cap, self.floor)
         self.substeps = self.substeps or self.floor
 
-    def redo_with(self, stretch: float) -> int | None:
-        """After a frame of max stretch `stretch`: the substeps to redo it with, or None to
+    @property
+    def mean_damping(self) -> float | None:
+        """d̄ over the frames since the count last changed (None: none measured)."""
+        return self.damping_sum / self.damping_frames if self.damping_frames else None
+
+    def _energy_need(self, margin: float = 1.0) -> float:
+        """d̄·margin/τ_E: the factor on the substeps that meets τ_E/margin (0: unbounded)."""
+        d = self.mean_damping
+        if self.energy_tolerance is None or d is None:
+            return 0.0
+        return max(d, 0.0) * margin / self.energy_tolerance
+
+    def _error_need(self, error: float, margin: float = 1.0) -> float:
+        return math.sqrt(max(error, 0.0) * margin / self.tolerance)
+
+    def meets(self, error: float) -> bool:
+        """Whether a frame of this error meets τ, and the recent mean damping τ_E."""
+        return self._error_need(error) <= 1.0 and self._energy_need() <= 1.0
+
+    def _set(self, substeps: int) -> None:
+        self.substeps = substeps
+        self.slack_frames = self.damping_frames = 0
+        self.window_error = self.damping_sum = 0.0
+
+    def _raised(self, need: float) -> int:
+        factor = min(MAX_RAISE, need * SAFETY)
+        return min(self.cap, max(self.substeps + 1, math.ceil(self.substeps * factor)))
+
+    def redo_with(self, error: float) -> int | None:
+        """After a frame of solve error `error`: the substeps to redo it with, or None to
         accept it as it is (it met τ, or no more substeps are allowed)."""
-        if stretch <= self.tolerance or not self.adaptive or self.substeps >= self.cap:
+        need = self._error_need(error)
+        if need <= 1.0 or not self.adaptive or self.substeps >= self.cap:
             return None
-        factor = min(MAX_RAISE, math.sqrt(stretch / self.tolerance) * SAFETY)
-        self.substeps = min(self.cap, max(self.substeps + 1, math.ceil(self.substeps * factor)))
-        self.slack_frames = 0
-        self.window_stretch = 0.0
+        self._set(self._raised(need))
         return self.substeps
 
-    def accept(self, stretch: float) -> int:
-        """Record an accepted frame; returns the substeps for the next frame."""
-        self.met = stretch <= self.tolerance
+    def accept(self, error: float, damping: float | None = None) -> int:
+        """Record an accepted frame and its numerical damping (1/s, None if not measured);
+        returns the substeps for the next frame."""
+        if damping is not None:
+            self.damping_sum += damping
+            self.damping_frames += 1
+        self.met = self.meets(error)
         if not self.adaptive:
             return self.substeps
         self.slack_frames += 1
-        self.window_stretch = max(self.window_stretch, stretch)
-        if self.slack_frames >= SLACK_FRAMES:
-            want = math.ceil(self.substeps
-                             * math.sqrt(self.window_stretch * SAFETY / self.tolerance))
-            if want < self.substeps:
-                self.substeps = max(self.floor, want, self.substeps // 2)
-            self.slack_frames = 0
-            self.window_stretch = 0.0
+        self.window_error = max(self.window_error, error)
+        energy_need = self._energy_need()
+        if (energy_need > 1.0 and self.damping_frames >= ENERGY_FRAMES
+                and self.substeps < self.cap):
+            self._set(self._raised(self._energy_need(ENERGY_SAFETY) / SAFETY))
+        elif self.slack_frames >= (SLACK_FRAMES if self.energy_tolerance is None
+                                   else ENERGY_SLACK_FRAMES):
+            want = math.ceil(self.substeps * max(self._error_need(self.window_error, SAFETY),
+                                                 self._energy_need(ENERGY_SAFETY)))
+            self._set(max(self.floor, want, self.substeps // 2)
+                      if want < self.substeps else self.substeps)
         return self.substeps

@@ -45,7 +45,7 @@ def test_a_strip_between_two_hooks_sags_as_the_catenary():
     s = sf.apply_overrides(Scene(), [
         f"cloth.size=[{LENGTH}, {WIDTH}]", "cloth.resolution=[41, 5]", "cloth.pinned=none",
         "behavior.bending=false", "behavior.damping=0.1", "behavior.iterations=50",
-        "behavior.stretch_tolerance=0.001",
+        "behavior.error_tolerance=0.001",
         f"pins=[{{cols=[0,0], offset=[{pull},0,0]}}, {{cols=[-1,-1], offset=[{-pull},0,0]}}]"])
     sim = Simulation(s)
     for _ in range(600):

@@ -1,6 +1,8 @@
-"""The substep controller alone: raise on excess, stop at the cap, lower with hysteresis."""
+"""The substep controller alone: raise on excess, stop at the cap, lower with hysteresis; the
+solve error redoes a frame, the numerical damping raises the count for the frames after."""
 
-from cloth_tui.sim.substep_control import MAX_RAISE, SLACK_FRAMES, SubstepController
+from cloth_tui.sim.substep_control import (ENERGY_FRAMES, ENERGY_SAFETY, ENERGY_SLACK_FRAMES,
+                                           MAX_RAISE, SLACK_FRAMES, SubstepController)
 
 
 def test_a_frame_over_tolerance_is_redone_with_more_substeps_up_to_the_cap():
@@ -56,3 +58,48 @@ def test_not_adaptive_reports_and_changes_nothing():
 def test_cap_below_floor_means_the_floor():
     c = SubstepController(tolerance=0.05, floor=8, cap=2)
     assert c.cap == 8 and c.redo_with(1.0) is None
+
+
+# --- numerical damping --------------------------------------------------------------------
+
+def test_numerical_damping_over_its_tolerance_raises_the_next_frames_after_a_few_frames():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
+    for _ in range(ENERGY_FRAMES - 1):
+        assert c.accept(0.001, damping=0.2) == 4  # one frame's damping is no measure yet
+    assert c.met is False  # the mean so far is over τ_E
+    # the mean 0.2/s is 4× τ_E; aimed at τ_E/ENERGY_SAFETY that is 8×, at most ×4
+    assert c.accept(0.001, damping=0.2) == 4 * MAX_RAISE
+    assert c.mean_damping is None  # the count changed: a new mean starts
+
+
+def test_the_mean_damping_decides_not_one_frame():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
+    for k in range(4 * ENERGY_FRAMES):
+        c.accept(0.001, damping=0.25 if k % 10 == 5 else 0.0)  # bursts 5× τ_E, mean ½ τ_E
+    assert c.substeps == 4 and c.met
+
+
+def test_damping_raise_factor_and_no_redo():
+    c = SubstepController(tolerance=0.05, floor=10, cap=128, energy_tolerance=0.1)
+    assert c.redo_with(0.001) is None  # the frame's error is met: energy never redoes
+    for _ in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=0.12)
+    assert c.substeps == round(10 * 0.12 * ENERGY_SAFETY / 0.1)  # ⌈24.0⌉
+
+
+def test_with_an_energy_tolerance_lowering_waits_longer_and_keeps_damping_in_bounds():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, substeps=64, energy_tolerance=0.05)
+    for _ in range(SLACK_FRAMES):
+        c.accept(0.0001, damping=0.001)
+    assert c.substeps == 64  # a quiet half-second is not enough
+    for _ in range(ENERGY_SLACK_FRAMES - SLACK_FRAMES):
+        c.accept(0.0001, damping=0.02)
+    # mean 0.0155/s... the window's: ⌈64·max(√(1e-4·1.25/0.05), 0.01525·2/0.05)⌉ = 40
+    assert c.substeps == 40
+
+
+def test_without_an_energy_tolerance_damping_is_only_reported():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128)
+    for _ in range(3 * ENERGY_FRAMES):
+        assert c.accept(0.001, damping=5.0) == 4
+    assert c.met and c.mean_damping == 5.0

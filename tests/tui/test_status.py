@@ -1,6 +1,6 @@
 """The status line at several widths: both lines fit, and what every width keeps is there
 (the state, both rates with the graphics mode, the particle count, the largest stretch, ΔE
-with its unit, the tolerance's cost, the xpbd constraint error with its value, tears); and
+with its unit, the material or solver and the tolerance's cost, the numerical damping, tears); and
 notices never cover it."""
 
 import re
@@ -14,10 +14,11 @@ from .conftest import make_app, run, until
 
 XPBD_STATS = {"energy": 0.446, "particles": 676, "frame_ms": 19.1, "step_ms": 1.736,
               "substeps_used": 11, "max_stretch": 0.0075, "mean_stretch": 0.0017,
-              "stretch_tolerance": 0.01, "tolerance_met": True, "constraint_error": 1.2e-4,
-              "torn": 3}
+              "solver": "xpbd", "error_tolerance": 0.01, "tolerance_met": True,
+              "numerical_damping": 0.031, "torn": 3}
 ALWAYS = ("sim 57 fps", "view 57 fps (blocks 256)", "676 particles", "0.75%",
-          "-0.045 J", "tol 1 % → 11 substeps, 19.1 ms/frame", "0.12 mm", "3 torn")
+          "-0.045 J", "xpbd · err", "1 % → 11 sub", "19.1 ms", "damping 3.1 %/s",
+          "3 torn")
 
 
 @pytest.fixture
@@ -51,8 +52,9 @@ def test_a_wide_line_says_it_in_full_words(readout):
     state, cost = readout.text(paused=False, recording=False, iterations=4, substeps=4,
                                width=158)  # a 160-column terminal less the padding
     plain = Text.from_markup(state).plain
-    assert "▶ running" in plain and "constraint error 0.12 mm" in plain
+    assert "▶ running" in plain and "numerical damping 3.1 %/s" in plain
     assert "4 iterations × 4 (now 11) substeps" in Text.from_markup(cost).plain
+    assert "xpbd · error 1 % → 11 substeps, 19.1 ms/frame" in Text.from_markup(cost).plain
 
 
 def test_the_app_line_fits_its_terminal_and_notices_stay_off_it(tmp_path):
@@ -69,7 +71,7 @@ def test_the_app_line_fits_its_terminal_and_notices_stay_off_it(tmp_path):
                 text = app.query_one("#status-text")
                 plain = text.render().plain + " " + app.query_one("#cost-text").render().plain
                 assert text.render().cell_length <= text.size.width, size
-                assert "0.12 mm" in plain and "676 particles" in plain, (size, plain)
+                assert "damping 3.1 %/s" in plain and "676 particles" in plain, (size, plain)
             app.notify("a notice with a long text that would reach the right half " * 2)
             await until(pilot, lambda: app.screen.query("Toast"), what="the notice shown")
             await pilot.pause(0.2)

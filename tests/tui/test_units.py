@@ -49,18 +49,21 @@ def test_rate_meter_and_readout():
     assert r.drift == 0.0
 
 
-def test_readout_shows_what_the_tolerance_costs_and_warns_when_not_met():
+def test_readout_names_the_material_and_shows_what_the_tolerance_costs():
     r = Readout()
-    r.on_snapshot(1, {"stretch_tolerance": 0.05, "substeps_used": 12, "frame_ms": 3.1,
-                      "tolerance_met": True, "constraint_error": 2e-5})
+    r.on_snapshot(1, {"material": "denim", "solver": "xpbd", "error_tolerance": 0.005,
+                      "substeps_used": 9, "frame_ms": 4.1, "tolerance_met": True,
+                      "numerical_damping": 2e-4})
     state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
-    assert "tol 5 % → 12 substeps, 3.1 ms/frame" in cost
-    assert "NOT MET" not in cost and "constraint error" not in state
-    r.on_snapshot(2, {"stretch_tolerance": 0.05, "substeps_used": 128, "frame_ms": 40.0,
-                      "tolerance_met": False, "constraint_error": 3e-3})
+    assert "denim · error 0.5 % → 9 substeps, 4.1 ms/frame" in cost
+    assert "NOT MET" not in cost and "damping" not in state  # too little to show
+    r.on_snapshot(2, {"solver": "pbd", "error_tolerance": 0.05, "energy_tolerance": 0.05,
+                      "substeps_used": 128, "frame_ms": 40.0, "tolerance_met": False,
+                      "numerical_damping": 0.123})
     state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
-    assert "[b black on yellow] tol 5 % → 128 substeps, 40.0 ms/frame: NOT MET [/]" in cost
-    assert "constraint error 3.00 mm" in state
+    assert ("[b black on yellow] pbd · error 5 %, damping 5 %/s → 128 substeps, 40.0 "
+            "ms/frame: NOT MET [/]") in cost
+    assert "numerical damping 12.3 %/s" in state
 
 
 def test_compact_readout_fits_80_columns_with_fps_stretch_and_energy(monkeypatch):

@@ -1,0 +1,75 @@
+"""Numerical damping: the energy a run loses that no damping key asked for, reported, and
+bounded by behavior.energy_tolerance through the adaptive substeps."""
+
+import pytest
+
+from cloth_tui.sim.runner import Simulation
+
+from .helpers import scene
+
+SWING = dict(behavior__damping=0.0, cloth__pinned="one_edge", cloth__resolution=12,
+             scene__floor=False)
+
+
+def swing(frames: int = 120, **overrides):
+    """An undamped sheet released flat, held along one edge, swinging for `frames` frames:
+    (share of its free energy lost, the substeps of every frame, the simulation). The end's
+    free energy is the mean over the next 10 frames: the last substep's velocities misread
+    the kinetic energy of one frame by a few per cent either way."""
+    sim = Simulation(scene(**{**SWING, **overrides}))
+    start = sim.free_energy()
+    substeps = []
+    for _ in range(frames):
+        sim.advance_frame()
+        substeps.append(sim.step.substeps)
+    end = []
+    for _ in range(10):
+        sim.advance_frame()
+        end.append(sim.free_energy())
+    return 1.0 - sum(end) / len(end) / start, substeps, sim
+
+
+@pytest.mark.parametrize("solver", ["pbd", "xpbd"])
+def test_an_energy_tolerance_of_10_percent_over_2_s_keeps_a_swing_within_it(solver):
+    # 4 fixed substeps lose a third of the swing in 2 s; 0.05/s (10 % over 2 s) makes the
+    # control take what it needs
+    fixed, _, sim = swing(behavior__solver=solver, behavior__adaptive=False,
+                          behavior__energy_tolerance=0.05)
+    assert fixed > 0.2  # without adaptive the tolerance is reported, not met
+    assert sim.numerical_damping > 0.05 and sim.stats()["tolerance_met"] is False
+    lost, substeps, sim = swing(behavior__solver=solver, behavior__energy_tolerance=0.05)
+    assert abs(lost) <= 0.10, (lost, substeps)
+    mean = sum(substeps) / len(substeps)
+    assert 4 * 4 < mean <= 128, mean  # the work it took, reported per frame
+    st = sim.stats()
+    assert st["energy_tolerance"] == 0.05 and st["substeps_used"] == sim.step.substeps
+
+
+def test_the_damping_a_key_asks_for_is_not_numerical():
+    # behavior.damping = 3 % per 18 ms takes nearly all of the swing; at 64 substeps that
+    # is the key's loss, not the step's
+    lost, _, sim = swing(behavior__damping=0.03, behavior__substeps=64,
+                         behavior__adaptive=False)
+    assert lost > 0.9
+    assert abs(sim.numerical_damping) < 0.02
+    lost, _, sim = swing(behavior__substeps=64, behavior__adaptive=False)
+    assert lost < 0.1 and abs(sim.numerical_damping) < 0.02
+
+
+def test_numerical_damping_is_none_where_energy_comes_in_or_goes_out_by_contact():
+    assert swing(30, forces__wind=True)[2].stats()["numerical_damping"] is None
+    # a free sheet lying on the floor: every frame touches it (friction and contacts)
+    on_floor = Simulation(scene(cloth__pinned="none", cloth__height=0.01))
+    for _ in range(30):
+        on_floor.advance_frame()
+    assert on_floor.stats()["numerical_damping"] is None
+
+
+def test_simulate_json_and_stats_report_error_stretch_and_numerical_damping_apart():
+    lost, _, sim = swing(30)
+    st = sim.stats()
+    for k in ("error", "max_stretch", "numerical_damping", "error_tolerance",
+              "energy_tolerance", "solver"):
+        assert k in st, k
+    assert st["error"] == pytest.approx(st["max_stretch"])  # pbd: the error is the stretch
+    assert st["energy_tolerance"] is None  # 0: unbounded
