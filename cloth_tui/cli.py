@@ -130,6 +130,11 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--sizes", type=_size_list, metavar="N,N,…",
                    help="sheet sizes of the step table (default 26,64,128,256)")
     p.add_argument("--no-render", action="store_true", help="skip render and frame pipeline")
+    p.add_argument("--cost-sizes", type=_size_list, metavar="N,N,…",
+                   help="sheet sizes of the cost-of-accuracy table (default: --sizes if given, "
+                        "else 32,64,128,256; --quick: 32,64)")
+    p.add_argument("--no-cost", action="store_true",
+                   help="skip the cost-of-accuracy table (the default scene to its tolerance)")
 
     p = sub.add_parser("accuracy", help="work-precision study of solvers and integrators")
     p.add_argument("--json", action="store_true")

@@ -10,6 +10,7 @@ import json
 import sys
 
 from . import breakdown as bd
+from .accuracy_cost import bench_accuracy_cost, format_cost
 from .render_bench import format_rows as format_render_rows
 from .step_bench import bare_scene, bench_frames_per_second, bench_step, busy_core, machine
 
@@ -76,6 +77,9 @@ def run_bench(args) -> int:
         scene = load(args.breakdown)
         result["breakdown"] = bd.breakdown(scene, frames=60 if quick else 240)
     result["quiet"] = _steps(sizes, quick, "quiet")
+    if not args.no_cost:
+        result["accuracy_cost"] = bench_accuracy_cost(args.cost_sizes or args.sizes, quick,
+                                                       _progress)
     if args.contended:
         with busy_core() as pid:
             result["contended"] = {"busy_pid": pid, **_steps(sizes, quick, "contended")}
@@ -88,9 +92,17 @@ def run_bench(args) -> int:
     if not args.no_render:
         _render_benches(result, quick)
     result["machine"] = machine()  # threading layer is known only after a parallel kernel ran
+    result["vectors"] = _vectors(quick)
     _progress("")
     print(json.dumps(result, indent=2) if args.json else format_report(result))
     return 0
+
+
+def _vectors(quick: bool) -> dict:
+    from .vector_code import cpu_vectors, projection_kernel_ops
+    _progress("the projection kernel's instructions")
+    # a fresh compile takes seconds: full runs only
+    return {**cpu_vectors(), "projection_kernel_ops": None if quick else projection_kernel_ops()}
 
 
 def _render_benches(result: dict, quick: bool) -> None:
@@ -148,6 +160,9 @@ def format_report(r: dict) -> str:
            f"CLOTH_TUI_THREADS={m['CLOTH_TUI_THREADS'] or 'unset'}",
            f"load average (1 min): {m0['load_1min']:.2f} at the start, {m['load_1min']:.2f} "
            f"at the end. Figures: median [slowest–fastest block], wall clock."]
+    if "vectors" in r:
+        from .vector_code import describe
+        out.append(describe(r["vectors"], r["vectors"]["projection_kernel_ops"]))
     head = ("M constraint projections per second; bare step (corners pinned, Verlet + "
             "damping, gravity, 3 families, K = 4, no floor). 'whole step' = every stage of "
             "a substep; 'kernel alone' = the projection stage only")
@@ -155,6 +170,8 @@ def format_report(r: dict) -> str:
     if "contended" in r:
         out += _step_table("Step with a busy loop taking one core (--contended)",
                            r["contended"])
+    if "accuracy_cost" in r:
+        out += format_cost(r["accuracy_cost"])
     g = r["gravity_cost"]
     out += ["", f"Cost of gravity at n = {g['n']}, one thread: bare step "
                 f"({' + '.join(g['bare_effects'])}) {g['bare_ms']:.3f} ms/step, "

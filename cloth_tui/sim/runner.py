@@ -116,6 +116,7 @@ class Simulation:
             self.wall_s = 0.0
             self.last_step_s = 0.0
             self.penetration = 0.0
+            self.substeps_run = 0  # every substep stepped, redone and trial frames included
         self.recoveries = 0
         self.halted: str | None = None  # why stepping stopped, if it did
         # Springs stretch as their stiffness says, whatever the step: there the tolerance is
@@ -176,7 +177,7 @@ class Simulation:
             self._good.restore(self.state)  # the frame's start, with bumps since the last
         e0 = self._energy_scale() if self._watch_energy() else None
         e_start = self._energy_at_start()
-        self.step.frame(self.state)
+        self._run_frame()
         while not self.halted:
             problem = self._problem(e0)
             if problem == "overstretched" and self._stretch_converges():
@@ -189,7 +190,7 @@ class Simulation:
                 break
             self.state.restore(self._good)
             self._build_step()
-            self.step.frame(self.state)
+            self._run_frame()
         # Measured by the step that ran the frame: a rebuilt step's moving colliders would
         # stand where they were at t = 0 until they first run.
         if self.step.colliders:
@@ -205,6 +206,11 @@ class Simulation:
         self.last_step_s = time.perf_counter() - t0
         self.wall_s += self.last_step_s
         self.frames += 1
+
+    def _run_frame(self) -> None:
+        self.step.frame(self.state)
+        if self.step.effects:
+            self.substeps_run += self.step.substeps
 
     def _redo_for_accuracy(self, e_start: float | None) -> int | None:
         """Measure the frame's solve error and numerical damping and ask the controller."""
@@ -337,7 +343,7 @@ class Simulation:
         self.state.restore(self._good)
         self._guard_level += 1
         self._build_step()
-        self.step.frame(self.state)
+        self._run_frame()
         s2 = self._max_stretch() if self._finite() else math.inf
         self._guard_level -= 1
         self._build_step()
@@ -355,7 +361,7 @@ class Simulation:
             return
         self._guard_level += 1
         self._build_step()
-        self.step.frame(self.state)
+        self._run_frame()
 
     def bump(self, particle: int, displacement, radius: float = 1.5) -> None:
         """Push one particle, and its grid neighbours less (Gaussian falloff of `radius`

@@ -21,6 +21,19 @@ def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
     assert {row["method"] for row in r["self_collision"]} == {"naive", "hash"}
     assert all(row["pairs"] > 0 for row in r["self_collision"])  # crumpled, not flat
     assert "render" not in r
+    cost = r["accuracy_cost"]
+    assert cost["sizes"] == [6, 8]
+    assert [s["solver"] for s in cost["solvers"]][0] == "pbd, gauss-seidel"
+    for solver in cost["solvers"]:
+        assert [row["n"] for row in solver["rows"]] == [6, 8]
+        for row in solver["rows"]:
+            assert row["ms_min"] <= row["ms_per_frame"] <= row["ms_max"]
+            assert row["substeps_per_frame"] >= 4  # the default scene's floor
+            assert row["work_per_frame"] == row["substeps_per_frame"] * row["passes_per_substep"]
+            assert isinstance(row["met"], bool) and row["worst_error"] > 0.0
+        assert isinstance(solver["exponent"], float) and solver["exponent_64_256"] is None
+    assert r["vectors"]["isa_vector_bits"] in (128, 256, 512)
+    assert r["vectors"]["projection_kernel_ops"] is None  # a fresh compile: full runs only
 
 
 def test_bench_text_report_labels_whole_step_and_kernel(capsys):
@@ -28,6 +41,8 @@ def test_bench_text_report_labels_whole_step_and_kernel(capsys):
     out = capsys.readouterr().out
     assert "whole step" in out and "kernel alone" in out and "serial numba loop" in out
     assert "simulated frames per wall second" in out and "load average" in out
+    assert "Cost of accuracy" in out and "ms per frame" in out
+    assert "vectors: the CPU offers" in out
 
 
 def test_bad_sizes_and_thread_limit_are_one_line_errors(capsys, monkeypatch):

@@ -31,6 +31,9 @@ def test_adaptive_substeps_meet_the_tolerance_a_fixed_count_misses():
     assert st["tolerance_met"] is True and st["error_tolerance"] == 0.05
     assert 1 < st["substeps_used"] <= adaptive.scene.behavior.max_substeps
     assert fixed.stats()["substeps_used"] == 1
+    # the work counts the redone frames too: more substeps ran than the accepted ones
+    assert adaptive.substeps_run > adaptive.state.steps
+    assert fixed.substeps_run == fixed.state.steps == 30
 
 
 def test_adaptive_substeps_come_back_down_when_there_is_slack():
