@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 
+from .materials.presets import preset_names
+from .materials.values import KEYS, describe
 from .pin_groups import ALLOWED, PinGroup
 from .scene import SECTION_TYPES, SECTIONS, SceneObject, describe_allowed
 from .scene_files import toml_value
@@ -26,6 +28,18 @@ def reference_markdown() -> str:
              "`--set`, `pins=[{...}, ...]` sets the whole array).\n",
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
     rows += [_reference_row(f, ALLOWED[f.name]) for f in dataclasses.fields(PinGroup)]
+    rows += ["\n### [material]\n",
+             "The fabric in SI units (see Materials in SI units; it needs `behavior.solver = "
+             "\"xpbd\"`). `material = \"original\"`, or no section, keeps the original's "
+             "unitless keys. Without `preset`, areal_density, stretch, shear and bending are "
+             "all needed; with it, the keys given override the preset's.\n",
+             "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|",
+             f"| `preset` | (none) |  | a name of the measured-fabric table "
+             f"({', '.join(preset_names())}) | the fabric the other keys start from |"]
+    for name, spec in KEYS.items():
+        default = "`0.0`" if name == "damping" else "(none)" if name == "tear_strength" \
+            else "(the preset's)"
+        rows.append(f"| `{name}` | {default} | {spec.unit} | {describe(name)} | {spec.doc} |")
     return "\n".join(rows) + "\n"
 
 
