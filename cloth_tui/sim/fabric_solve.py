@@ -127,9 +127,11 @@ class ProjectFabric:
         return self.edges.lambdas
 
     @property
-    def alpha_tilde(self) -> np.ndarray:
-        """α/h² of each model.edges constraint."""
+    def alpha_t(self) -> np.ndarray:
+        """α/h² of each model.edges constraint (ProjectConstraints' name for it)."""
         return self.edges.alpha_t
+
+    alpha_tilde = alpha_t
 
     def apply(self, state, h):
         if state.torn or self._masks_torn:
