@@ -283,11 +283,11 @@ def _build_mesh_grids(scene) -> None:
     if not any(o.type == "mesh" for o in scene.objects):
         return
     from .interrupt import mesh_grid_progress
-    from .sim.mesh_collider import build_mesh_colliders
+    from .sim.colliders import build_colliders
     from .sim.model import build_model
 
     with mesh_grid_progress(sys.stderr.isatty()):
-        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
+        build_colliders(scene, build_model(scene.cloth, scene.behavior))
 
 
 def _detect_graphics(args):

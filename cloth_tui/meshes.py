@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene import SceneError
+from .scene_keys import SceneError
 from .user_values import PathProblem, short_repr, user_path
 
 SUFFIXES = (".stl", ".obj", ".ply", ".vtk", ".vtp")

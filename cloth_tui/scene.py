@@ -21,7 +21,8 @@ from .materials.section import (MaterialSection, is_material_key, section_from_v
 from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
                          groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
-from .safe_text import escape_controls
+from .scene_keys import MIN_DIRECTION_NORM, SceneError, key, vec3
+from .sim import shapes
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
 
@@ -31,46 +32,13 @@ NAIVE_MAX_PARTICLES = 128 * 128  # naive self-collision is O(N²): beyond this, 
 ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
 TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
-# A direction shorter than this is refused: the kernels normalise it, and the square of a
-# length near the subnormal range underflows to 0 (a division by zero) or loses its digits.
-MIN_DIRECTION_NORM = 1e-6
-
-
-class SceneError(ValueError):
-    """A scene document, value or override that cannot be accepted. The message is one line,
-    with any control character from the user's keys, values or file names escaped."""
-
-    def __init__(self, message: str) -> None:
-        super().__init__(escape_controls(message))
-
-
-def key(default: Any, doc: str, *, unit: str = "", lo: float | None = None,
-        hi: float | None = None, lo_open: bool = False, hi_open: bool = False,
-        choices: tuple[str, ...] | None = None, kind: str = "",
-        pair: tuple[str, str] | None = None) -> Any:
-    """Declare a scene key: default, help text, unit and what values are allowed. `pair`
-    names the two entries of the list the key also accepts in place of one number (each
-    entry within the same range), as in [width, length]."""
-    meta = dict(doc=doc, unit=unit, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open,
-                choices=choices, kind=kind, pair=pair)
-    if isinstance(default, list):
-        return field(default_factory=lambda: list(default), metadata=meta)
-    return field(default=default, metadata=meta)
-
-
-def vec3(default: list[float], doc: str, *, unit: str = "", nonzero: bool = False) -> Any:
-    """A 3-vector; `nonzero` marks a direction, whose length must be at least
-    MIN_DIRECTION_NORM so that it can be normalised."""
-    return key(default, doc, unit=unit, kind="vec3_nonzero" if nonzero else "vec3")
-
-
 MASS_MODELS = ("area", "uniform")
 PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
 SOLVERS = ("pbd", "xpbd", "springs")
 INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
                "implicit_euler")
-SHAPE_TYPES = ("sphere", "box", "plane", "capsule")  # scene.object: the original's shapes
-OBJECT_TYPES = SHAPE_TYPES + ("mesh",)
+SHAPE_TYPES = shapes.single_object_names()  # scene.object: the original's shapes
+OBJECT_TYPES = shapes.names()
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
 
 
@@ -149,25 +117,18 @@ class Forces:
     rain_rate: float = key(20.0, "drops per second", unit="1/s", lo=0.0, hi=1e5)
 
 
-@dataclass
-class SceneObject:
-    type: str = key("sphere", "shape of the object", choices=OBJECT_TYPES)
-    center: list = vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)", unit="m")
-    radius: float = key(0.25, "radius (sphere, capsule)", unit="m", lo=0.0, lo_open=True, hi=1e3)
-    size: list = vec3([0.5, 0.2, 0.5], "box sides", unit="m")
-    normal: list = vec3([0.0, 1.0, 0.0], "plane normal", nonzero=True)
-    axis: list = vec3([1.0, 0.0, 0.0], "capsule axis direction", nonzero=True)
-    length: float = key(0.5, "capsule: length of its axis segment (the cylinder part)", unit="m",
-                        lo=0.0, hi=1e3)
-    path: str = key("", "mesh: STL, OBJ, PLY or VTK surface file, relative to the scene file")
-    scale: float = key(1.0, "mesh: factor on the file's coordinates", lo=0.0, lo_open=True,
-                       hi=1e3)
-    rotation: list = vec3([0.0, 0.0, 0.0], "mesh: rotation about x, then y, then z (about "
-                          "the file's origin, which `center` places)", unit="°")
-    friction: float = key(-1.0, "Coulomb friction μ 0–1 (−1: use scene.friction)", lo=-1.0,
-                          hi=1.0)
-    motion: str = key("static", "static, or orbit (the original's slow circle)",
-                      choices=("static", "orbit"))
+# [[objects]]: the keys every object has, then each shape's own (sim/shapes/)
+SceneObject = dataclasses.make_dataclass("SceneObject", [
+    ("type", "str", key("sphere", "shape of the object", choices=OBJECT_TYPES)),
+    ("center", "list", vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)",
+                            unit="m")),
+    *shapes.object_keys(),
+    ("friction", "float", key(-1.0, "Coulomb friction μ 0–1 (−1: use scene.friction)",
+                              lo=-1.0, hi=1.0)),
+    ("motion", "str", key("static", "static, or orbit (the original's slow circle)",
+                          choices=("static", "orbit"))),
+])
+SceneObject.__module__ = __name__  # for pickling and its repr's sake, as if declared here
 
 
 @dataclass
@@ -471,15 +432,8 @@ def validate(scene: Scene) -> None:
                          f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
                          f"2π·amplitude·frequency must not exceed behavior.max_speed = "
                          f"{b.max_speed:g} m/s")
-    default = SceneObject()
     for i, o in enumerate(scene.objects):
-        if o.type == "capsule" and (o.normal != default.normal or o.size != default.size):
-            raise SceneError(f"objects[{i}]: a capsule takes `axis` (direction) and `length` "
-                             "(m), not `normal` and `size` (older files put the axis in normal "
-                             "and the length in size[1]); move them to axis and length")
-        if (o.type == "mesh") != bool(o.path):
-            raise SceneError(f"objects[{i}]: " + ("a mesh needs `path`, its surface file"
-                             if o.path == "" else f"`path` is for meshes, not a {o.type}"))
+        shapes.check_object(o, f"objects[{i}]")
     c, s = scene.cloth, scene.scene
     check_groups(scene.pins, *grid_of(c))
     holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and

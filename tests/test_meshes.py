@@ -150,18 +150,18 @@ def test_a_scene_whose_meshes_hold_too_many_triangles_is_refused_before_any_grid
 
 def test_each_grid_built_is_announced_on_a_terminal(tmp_path, capsys, torus):
     from cloth_tui.interrupt import mesh_grid_progress
-    from cloth_tui.sim.mesh_collider import build_mesh_colliders
+    from cloth_tui.sim.colliders import build_colliders
     from cloth_tui.sim.model import build_model
 
     scene = loads(f'[[objects]]\ntype = "mesh"\npath = "{torus}"\nscale = 0.7\n'
                   f'center = [0.0, -0.3, 0.0]\n')
     meshes._field.cache_clear()
     with mesh_grid_progress(True):
-        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
+        build_colliders(scene, build_model(scene.cloth, scene.behavior))
     err = capsys.readouterr().err
     assert "building the distance grid of objects[0]" in err and "triangles" in err
     assert err.endswith("\r\x1b[K")  # the line is cleared for what follows
     with mesh_grid_progress(False):
         meshes._field.cache_clear()
-        build_mesh_colliders(scene, build_model(scene.cloth, scene.behavior))
+        build_colliders(scene, build_model(scene.cloth, scene.behavior))
     assert capsys.readouterr().err == ""

@@ -12,7 +12,6 @@ checked here, and anything a cloth-tui bake never holds is refused in one line (
 from __future__ import annotations
 
 import contextlib
-import math
 import os
 import re
 import sys
@@ -21,13 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import OBJECT_TYPES
+from ..sim.shapes import SHAPES
+from ..sim.shapes.base import MAX_LENGTH, ShapeValueError, finite, vector
 from ..usage import UsageError
 
 MIN_FRAME_RATE, MAX_FRAME_RATE = 1.0, 10000.0  # the scene's behavior.frame_rate range
 MAX_TIME_CODE = 2 ** 31 - 1
-MAX_LENGTH = 1e6      # m: any object dimension or position beyond this is not a scene's
-MIN_DIRECTION = 1e-6  # a normal or axis shorter than this gives no direction
 ARC_FIELDS = ("references", "payload", "clips", "clipSets")
 
 
@@ -108,7 +106,7 @@ def composition_arc(layer) -> str | None:
 
 
 def frame_rate(path: Path, value) -> float:
-    rate = _finite(value)
+    rate = finite(value)
     if rate is None or not MIN_FRAME_RATE <= rate <= MAX_FRAME_RATE:
         raise UsageError(f"{path}: timeCodesPerSecond = {value!r}; a bake's frame rate is "
                          f"{MIN_FRAME_RATE:g}..{MAX_FRAME_RATE:g} frames per second")
@@ -119,7 +117,7 @@ def time_codes(path: Path, samples) -> list[int]:
     """The frames (time codes), whole numbers in 0..MAX_TIME_CODE, in order."""
     frames = []
     for t in samples:
-        f = _finite(t)
+        f = finite(t)
         if f is None or f != round(f) or not 0 <= f <= MAX_TIME_CODE:
             raise UsageError(f"{path}: a time code of {t!r}; a bake's frames are whole "
                              f"numbers 0..{MAX_TIME_CODE}")
@@ -134,33 +132,21 @@ def scene_text(path: Path, value) -> str:
     return value
 
 
-def object_shape(path: Path, prim) -> dict | None:
-    """An object prim's cloth_tui:* attributes as ObjectPose fields, checked; None for a
-    prim that is not a cloth-tui object (no cloth_tui:type)."""
+def object_shape(path: Path, prim) -> tuple[str, dict] | None:
+    """An object prim's type and its shape's parameters, as recorded (cloth_tui:type, then
+    the shape's own attributes and prim), checked; None for a prim that is not a cloth-tui
+    object (no cloth_tui:type)."""
     where = f"{path}: {prim.GetPath()}"
     kind = _attr(prim, "type")
     if kind is None:
         return None
-    if not isinstance(kind, str) or kind not in OBJECT_TYPES:
+    if not isinstance(kind, str) or kind not in SHAPES:
         raise UsageError(f"{where}: cloth_tui:type = {str(kind)[:40]!r}; expected one of "
-                         f"{', '.join(OBJECT_TYPES)}")
-    shape = {"type": kind}
-    for name in ("radius", "length"):
-        v = _finite(_attr(prim, name))
-        if v is None or not 0.0 <= v <= MAX_LENGTH:
-            raise UsageError(f"{where}: cloth_tui:{name} is missing or not a length in "
-                             f"0..{MAX_LENGTH:g} m")
-        shape[name] = v
-    for name in ("size", "normal", "axis"):
-        v = vector(_attr(prim, name))
-        if v is None or (name == "size" and min(v) < 0.0):
-            raise UsageError(f"{where}: cloth_tui:{name} is missing or not three finite "
-                             f"numbers within ±{MAX_LENGTH:g}" + (", none negative"
-                                                                  if name == "size" else ""))
-        if name != "size" and math.hypot(*v) < MIN_DIRECTION:
-            raise UsageError(f"{where}: cloth_tui:{name} is too short to give a direction")
-        shape[name] = v
-    return shape
+                         f"{', '.join(SHAPES)}")
+    try:
+        return kind, SHAPES[kind].read_usd(prim)
+    except ShapeValueError as e:
+        raise UsageError(f"{where}: {e}") from None
 
 
 def translate_op(path: Path, prim):
@@ -172,17 +158,6 @@ def translate_op(path: Path, prim):
         raise UsageError(f"{path}: {prim.GetPath()} has no translate, where a cloth-tui bake "
                          "places each object")
     return ops[0].GetAttr()
-
-
-def vector(value) -> tuple | None:
-    """Three finite numbers within ±MAX_LENGTH, or None."""
-    try:
-        v = tuple(float(x) for x in value)
-    except (TypeError, ValueError, OverflowError):
-        return None
-    if len(v) != 3 or not all(math.isfinite(x) and abs(x) <= MAX_LENGTH for x in v):
-        return None
-    return v
 
 
 def points(path: Path, frame: int, value, count: int | None) -> np.ndarray:
@@ -216,11 +191,3 @@ def _attr(prim, name: str):
     return attr.Get() if attr else None
 
 
-def _finite(value) -> float | None:
-    if isinstance(value, bool):
-        return None
-    try:
-        f = float(value)
-    except (TypeError, ValueError, OverflowError):
-        return None
-    return f if math.isfinite(f) else None

@@ -10,7 +10,8 @@
       Ground               Mesh: a quad at the floor's height (when the scene has a floor)
       Objects/Object_k     Xform: translate (time-sampled once the object moves) and the exact
                            shape as cloth_tui:* attributes, for reading the bake back
-        Shape              Sphere | Cube (scaled) | Capsule (oriented) | Mesh (a plane's quad)
+        Shape              the shape's own prim (sim/shapes/: Sphere, Cube (scaled), Capsule
+                           (oriented), Mesh: a plane's quad or a mesh's triangles, ...)
 
 Time code k is frame k (from 1), timeCodesPerSecond = framesPerSecond = the scene's frame
 rate, metres (metersPerUnit = 1), y up. The layer's customLayerData holds the scene's TOML, so
@@ -34,6 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import scene_files as scene_io
+from ..sim.shapes import shape_of
+from ..sim.shapes.plane import quad
 from ..sim.surface import grid_uv, vertex_normals
 from .frames import BakedFrame, SheetFaces
 from .mesh_sequence import BakeIOError
@@ -42,7 +45,6 @@ USD_SUFFIXES = (".usd", ".usdc", ".usda")
 SAVE_INTERVAL_S = 1.0   # wall time between saves: what a SIGKILL can lose, at least
 SAVE_SHARE = 0.2        # at most this share of the wall time goes to saving
 GROUND_HALF = 5.0       # m: half the side of the ground quad
-PLANE_HALF = 1.0        # m: half the side of the quad that shows an (infinite) plane
 SCENE_KEY = "cloth_tui:scene"
 ALIVE_KEY = "cloth_tui:alive"  # the cloth's intact flags, on a torn sheet (model.edges order)
 GRID_KEY = "cloth_tui:grid"    # (nx, nz): particles along x (a row) and along z
@@ -63,23 +65,6 @@ def missing_usd_message() -> str | None:
 def _hex_color(text: str) -> tuple[float, float, float]:
     t = text.lstrip("#")
     return tuple(int(t[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
-
-
-def _tangents(normal) -> tuple[np.ndarray, np.ndarray]:
-    n = np.asarray(normal, dtype=np.float64)
-    n = n / np.linalg.norm(n)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
-    u = np.cross(n, helper)
-    u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
-
-
-def _quad(center, normal, half: float) -> np.ndarray:
-    """Four corners, counter-clockwise seen from the side the normal points to."""
-    u, v = _tangents(normal)
-    c = np.asarray(center, dtype=np.float64)
-    return np.array([c + half * (su * u + sv * v)
-                     for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
 
 
 class UsdBakeWriter:
@@ -136,7 +121,7 @@ class UsdBakeWriter:
         s = self.scene.scene
         half = GROUND_HALF * max(1.0, self.scene.cloth.extent())
         ground = UsdGeom.Mesh.Define(self.stage, "/World/Ground")
-        corners = _quad((0.0, s.floor_height, 0.0), (0.0, 1.0, 0.0), half)
+        corners = quad((0.0, s.floor_height, 0.0), (0.0, 1.0, 0.0), half)
         ground.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(corners.astype(np.float32)))
         ground.CreateFaceVertexCountsAttr(Vt.IntArray([4]))
         ground.CreateFaceVertexIndicesAttr(Vt.IntArray([0, 1, 2, 3]))
@@ -145,42 +130,14 @@ class UsdBakeWriter:
             [self.Gf.Vec3f(*_hex_color(self.scene.appearance.ground_color))])
 
     def _define_object(self, k: int, pose) -> None:
-        Gf, Sdf, UsdGeom, Vt = self.Gf, self.Sdf, self.UsdGeom, self.Vt
-        xform = UsdGeom.Xform.Define(self.stage, f"/World/Objects/Object_{k}")
+        """The object's Xform (its translate, and its shape's parameters as cloth_tui:*
+        attributes, what a bake reads back) and its shape's prim, `Shape`."""
+        shape = shape_of(pose.type)  # an unregistered type raises: never another's prim
+        xform = self.UsdGeom.Xform.Define(self.stage, f"/World/Objects/Object_{k}")
         translate = xform.AddTranslateOp()
-        translate.Set(Gf.Vec3d(*pose.center))
-        prim = xform.GetPrim()
-        for name, type_, value in (
-                ("type", Sdf.ValueTypeNames.String, pose.type),
-                ("radius", Sdf.ValueTypeNames.Double, float(pose.radius)),
-                ("size", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.size)),
-                ("normal", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.normal)),
-                ("axis", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*pose.axis)),
-                ("length", Sdf.ValueTypeNames.Double, float(pose.length))):
-            prim.CreateAttribute(f"cloth_tui:{name}", type_, custom=True).Set(value)
-        path = f"/World/Objects/Object_{k}/Shape"
-        if pose.type == "sphere":
-            shape = UsdGeom.Sphere.Define(self.stage, path)
-            shape.CreateRadiusAttr(float(pose.radius))
-        elif pose.type == "box":
-            shape = UsdGeom.Cube.Define(self.stage, path)
-            shape.CreateSizeAttr(1.0)
-            shape.AddScaleOp().Set(Gf.Vec3f(*map(float, pose.size)))
-        elif pose.type == "capsule":
-            shape = UsdGeom.Capsule.Define(self.stage, path)
-            shape.CreateAxisAttr(UsdGeom.Tokens.z)
-            shape.CreateRadiusAttr(float(pose.radius))
-            shape.CreateHeightAttr(float(pose.length))
-            turn = Gf.Rotation(Gf.Vec3d(0, 0, 1), Gf.Vec3d(*pose.axis)).GetQuat()
-            shape.AddOrientOp(UsdGeom.XformOp.PrecisionFloat).Set(Gf.Quatf(turn))
-        else:  # a plane: a quad through the centre, facing its normal
-            shape = UsdGeom.Mesh.Define(self.stage, path)
-            corners = _quad((0.0, 0.0, 0.0), pose.normal, PLANE_HALF)
-            shape.CreatePointsAttr(Vt.Vec3fArray.FromNumpy(corners.astype(np.float32)))
-            shape.CreateFaceVertexCountsAttr(Vt.IntArray([4]))
-            shape.CreateFaceVertexIndicesAttr(Vt.IntArray([0, 1, 2, 3]))
-            shape.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
-            shape.CreateDoubleSidedAttr(True)
+        translate.Set(self.Gf.Vec3d(*pose.center))
+        shape.write_usd_parameters(self, xform.GetPrim(), pose.parameters)
+        shape.define_usd(self, self.stage, f"/World/Objects/Object_{k}/Shape", pose.parameters)
         centre = tuple(map(float, pose.center))
         self.objects.append([translate, centre, [centre], False])
 

@@ -115,8 +115,8 @@ class UsdBake:
         return None if alive.all() else alive
 
     def objects(self, frame: int) -> tuple:
-        return tuple(ObjectPose(center=tuple(map(float, translate.Get(float(frame)))), **shape)
-                     for shape, translate in self._objects)
+        return tuple(ObjectPose(kind, parameters, tuple(map(float, translate.Get(float(frame)))))
+                     for (kind, parameters), translate in self._objects)
 
 
 def _grid_of(path, attribute) -> tuple[int, int] | None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sim.shapes import shape_of
 from .geometry import AMBIENT, GROUND_DIFFUSE, flat_ground_light, fog_factor, hex_rgb
 
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge
@@ -14,8 +15,7 @@ POLE_COLOR = "#c8c8c8"
 POLE_SIDES = 8
 OBJECT_COLOR = "#e8e3d8"
 OBJECT_OPACITY = 0.55
-PLANE_HALF = 0.9  # m: shown extent of an (infinite) collision plane, about the sheet's
-PLANE_OPACITY = 0.35  # a plane spans the view: fainter, so the cloth stays the subject
+FAINT_OPACITY = 0.35  # a plane spans the view: fainter, so the cloth stays the subject
 GRID_STEP = 0.5       # m between grid lines on the untextured ground (the texture's tile)
 GRID_HALF = 6.0       # m: the grid's half-width; fog has nearly hidden the ground there
 GRID_LIFT = 0.002     # m above the floor: over the ground and the cloth's shadow
@@ -214,24 +214,6 @@ class Poles:
         self.actor.SetVisibility(True)
 
 
-def _object_mesh(pv, pose):
-    """Mesh of one object, centred at the origin (the actor's position places it)."""
-    if pose.type == "sphere":
-        return pv.Sphere(radius=pose.radius, theta_resolution=40, phi_resolution=24)
-    if pose.type == "box":
-        sx, sy, sz = (float(v) / 2 for v in pose.size)
-        return pv.Box((-sx, sx, -sy, sy, -sz, sz))
-    if pose.type == "capsule":
-        return pv.Capsule(direction=tuple(pose.axis), radius=pose.radius,
-                          cylinder_length=float(pose.length), resolution=30).triangulate()
-    if pose.type == "mesh" and pose.surface is not None:
-        return pv.PolyData.from_regular_faces(pose.surface.vertices, pose.surface.faces)
-    if pose.type == "plane":
-        return pv.Plane(direction=tuple(pose.normal), i_size=2 * PLANE_HALF,
-                        j_size=2 * PLANE_HALF)
-    return None
-
-
 class Objects:
     """Translucent collision objects, one actor per object, re-meshed only when a shape
     changes and otherwise just moved."""
@@ -242,10 +224,11 @@ class Objects:
         self.shapes: list = []
 
     def _add(self, pose):
-        mesh = _object_mesh(self.pv, pose) or self.pv.PolyData()
-        opacity = PLANE_OPACITY if pose.type == "plane" else OBJECT_OPACITY
+        shape = shape_of(pose.type)  # an unregistered type raises: no silent nothing
+        mesh = shape.render_mesh(self.pv, pose.parameters)
+        opacity = FAINT_OPACITY if shape.faint else OBJECT_OPACITY
         actor = self.plotter.add_mesh(mesh, color=OBJECT_COLOR, opacity=opacity,
-                                      smooth_shading=pose.type != "box", specular=0.3,
+                                      smooth_shading=shape.smooth, specular=0.3,
                                       reset_camera=False)
         actor.prop.backface_culling = False
         return actor
@@ -256,9 +239,7 @@ class Objects:
             self.plotter.remove_actor(self.actors.pop(), render=False)
             self.shapes.pop()
         for k, pose in enumerate(poses):
-            shape = (pose.type, float(pose.radius), tuple(map(float, pose.size)),
-                     tuple(map(float, pose.normal)), tuple(map(float, pose.axis)),
-                     float(pose.length), pose.surface.key if pose.surface else "")
+            shape = (pose.type, shape_of(pose.type).render_key(pose.parameters))
             if k == len(self.actors):
                 self.actors.append(self._add(pose))
                 self.shapes.append(shape)

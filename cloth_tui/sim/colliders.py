@@ -29,87 +29,48 @@ import math
 
 import numpy as np
 
+from ..scene import SceneObject
 from .jit import kernel
 from .protocols import Collider, ObjectPose
+from .shapes import SHAPES, Shape, box, capsule, mesh, plane, shape_of, sphere
+from .shapes.base import KernelInputs
 
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
 ORBIT_PERIOD = 10.0   # s, one revolution (≈ 0.16 m/s: the original's slow drift)
-PLANE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x
-AT_CENTRE = 1e-12     # m: a point this close to a centre or axis has no normal of its own
 KINETIC_SHARE = 0.8   # μk / μs: sliding friction a little below sticking (typical of fabric)
 
 
 # -- kernels --------------------------------------------------------------------------------
-# Each shape has a distance function (signed distance d of a point q given relative to the
-# shape's centre, and the outward unit normal there), written once: the contact kernel and
-# the penetration measure both call it through _shape_distance.
-@kernel(inline="always")
-def _sphere_distance(qx, qy, qz, r):
-    dist = math.sqrt(qx * qx + qy * qy + qz * qz)
-    if dist < AT_CENTRE:  # at the centre: any direction is nearest; choose up
-        return -r, 0.0, 1.0, 0.0
-    return dist - r, qx / dist, qy / dist, qz / dist
+# Each shape's distance (signed distance d of a point q relative to the shape's centre, and
+# the outward unit normal there) is written once, in its module under sim/shapes/; the
+# contact kernel and the penetration measure both call it through shape_distance.
+_sphere = kernel(inline="always")(sphere.distance)
+_box = kernel(inline="always")(box.distance)
+_capsule = kernel(inline="always")(capsule.distance)
+_plane = kernel(inline="always")(plane.distance)
+_mesh = kernel(inline="always")(mesh.distance)
+SPHERE, BOX, CAPSULE, PLANE, MESH = (sphere.SHAPE.code, box.SHAPE.code, capsule.SHAPE.code,
+                                     plane.SHAPE.code, mesh.SHAPE.code)
+DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH}  # the codes shape_distance has a branch for
 
 
 @kernel(inline="always")
-def _box_distance(qx, qy, qz, hx, hy, hz):
-    """Axis-aligned box of half sides h."""
-    ox = abs(qx) - hx
-    oy = abs(qy) - hy
-    oz = abs(qz) - hz
-    sx = 1.0 if qx >= 0.0 else -1.0
-    sy = 1.0 if qy >= 0.0 else -1.0
-    sz = 1.0 if qz >= 0.0 else -1.0
-    if ox > 0.0 or oy > 0.0 or oz > 0.0:
-        ux = sx * max(ox, 0.0)
-        uy = sy * max(oy, 0.0)
-        uz = sz * max(oz, 0.0)
-        d = math.sqrt(ux * ux + uy * uy + uz * uz)
-        return d, ux / d, uy / d, uz / d
-    if ox >= oy and ox >= oz:  # inside: leave through the nearest face
-        return ox, sx, 0.0, 0.0
-    if oy >= oz:
-        return oy, 0.0, sy, 0.0
-    return oz, 0.0, 0.0, sz
-
-
-@kernel(inline="always")
-def _capsule_distance(qx, qy, qz, ax, ay, az, half, r):
-    """Points within r of the segment ±half·a (a unit) through the centre."""
-    t = min(max(qx * ax + qy * ay + qz * az, -half), half)
-    ex = qx - t * ax
-    ey = qy - t * ay
-    ez = qz - t * az
-    dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-    if dist < AT_CENTRE:  # on the axis: leave perpendicular to it
-        ex, ey, ez = (-ay, ax, 0.0) if abs(az) < 0.9 else (0.0, -az, ay)
-        dist = math.sqrt(ex * ex + ey * ey + ez * ez)
-        return -r, ex / dist, ey / dist, ez / dist
-    return dist - r, ex / dist, ey / dist, ez / dist
-
-
-@kernel(inline="always")
-def _plane_distance(qx, qy, qz, nx, ny, nz):
-    d = qx * nx + qy * ny + qz * nz
-    return d, nx, ny, nz
-
-
-SPHERE, BOX, CAPSULE, PLANE = 0, 1, 2, 3
-SHAPES = {"sphere": SPHERE, "box": BOX, "capsule": CAPSULE, "plane": PLANE}
-
-
-@kernel(inline="always")
-def _shape_distance(shape, qx, qy, qz, p, s):
-    """Signed distance and outward normal of `shape` with parameters p (p[0:3] the centre, then
-    sphere: r; box: half sides; capsule: axis, half length, r; plane: normal), for a point q
-    relative to the centre. s = ±1 picks the side of a two-sided plane."""
-    if shape == SPHERE:
-        return _sphere_distance(qx, qy, qz, p[3])
-    if shape == BOX:
-        return _box_distance(qx, qy, qz, p[3], p[4], p[5])
-    if shape == CAPSULE:
-        return _capsule_distance(qx, qy, qz, p[3], p[4], p[5], p[6], p[7])
-    return _plane_distance(qx, qy, qz, s * p[3], s * p[4], s * p[5])
+def shape_distance(code, qx, qy, qz, p, side, grid, gradient):
+    """Signed distance and outward normal of the shape `code` with p[0:3] its centre and
+    p[3:] its packed parameters, for a point q relative to the centre; `side` (±1) picks
+    the side of a two-sided plane, grid and gradient are a mesh's distance grid. An unknown
+    code gives NaN (and ShapeCollider refuses one before any kernel runs)."""
+    if code == SPHERE:
+        return _sphere(qx, qy, qz, p, side, grid, gradient)
+    if code == BOX:
+        return _box(qx, qy, qz, p, side, grid, gradient)
+    if code == CAPSULE:
+        return _capsule(qx, qy, qz, p, side, grid, gradient)
+    if code == PLANE:
+        return _plane(qx, qy, qz, p, side, grid, gradient)
+    if code == MESH:
+        return _mesh(qx, qy, qz, p, side, grid, gradient)
+    return math.nan, 0.0, 1.0, 0.0
 
 
 @kernel(inline="always")
@@ -128,7 +89,7 @@ def push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal):
 
 
 @kernel()
-def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
+def collide_shape(x, inv_mass, side, code, p, grid, gradient, thickness, depth, normal):
     """Contact projection for one object: a particle inside the skin goes out along the
     normal to the skin's surface; depth[i] += how far, normal[i] = n. side[i] = ±1 is the
     side of a plane the particle started on (an infinite plane cannot be walked around, so
@@ -137,8 +98,8 @@ def collide_shape(x, inv_mass, side, shape, p, thickness, depth, normal):
     for i in range(x.shape[0]):
         if inv_mass[i] == 0.0:
             continue
-        d, nx, ny, nz = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p,
-                                        side[i])
+        d, nx, ny, nz = shape_distance(code, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p,
+                                       side[i], grid, gradient)
         if d < thickness:
             push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal)
 
@@ -176,42 +137,47 @@ def apply_coulomb_friction(x, x_prev, depth, normal, dx, dy, dz, mu_static, mu_k
 
 
 @kernel()
-def signed_distances(x, side, shape, p, out):
+def signed_distances(x, side, code, p, grid, gradient, out):
     """out[i] = signed distance of point i from the true surface (negative inside), m: the
     same distance function the contact kernel uses."""
     cx, cy, cz = p[0], p[1], p[2]
     for i in range(x.shape[0]):
-        d, _, _, _ = _shape_distance(shape, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, side[i])
+        d, _, _, _ = shape_distance(code, x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p,
+                                    side[i], grid, gradient)
         out[i] = d
 
 
 # -- effects --------------------------------------------------------------------------------
 class ShapeCollider:
-    """One static shape, described by its kernel code and parameters (see _shape_distance)."""
+    """One object of any registered shape (sim/shapes/), static or moving along the orbit:
+    its kernel inputs come from its shape, the contact, friction and motion are the same
+    for all."""
 
-    moving = False
-
-    def __init__(self, model, name: str, shape: int, center, friction: float,
-                 thickness: float):
-        self.name = name
-        self.shape = shape
+    def __init__(self, model, shape: Shape, inputs: KernelInputs, center, *, friction: float,
+                 thickness: float, moving: bool = False):
+        if shape.code not in DISPATCHED:
+            raise ValueError(f"the {shape.name} shape has no branch in shape_distance")
+        self.name = f"collide_{shape.name}"
+        self.shape, self.moving = shape, moving
+        self.parameters = inputs.parameters
+        self.grid, self.gradient = inputs.grid, inputs.gradient
         self.inv_mass = model.inv_mass
         self.center0 = np.asarray(center, dtype=np.float64)
         self.center = self.center0.copy()
-        self.params = np.zeros(8)  # centre, then the shape's own (see _shape_distance)
+        self.params = np.array([*self.center0, *inputs.packed], dtype=np.float64)
         self.friction, self.thickness = float(friction), float(thickness)
-        self.side = np.ones(model.num_particles)  # plane: side of each particle
-        self._sides_known = shape != PLANE
+        self.side = np.ones(model.num_particles)  # a sided shape: each particle's side
+        self._sides_known = not shape.sided
         # this substep's contacts: how far the object pushed each particle, and along what
         self.depth = np.zeros(model.num_particles)
         self.normal_at = np.zeros((model.num_particles, 3))
 
     def center_at(self, t: float) -> np.ndarray:
-        return self.center0
+        return self.center0 + orbit_offset(t) if self.moving else self.center0
 
-    def _sides(self, x: np.ndarray, center: np.ndarray) -> np.ndarray:
-        """±1: the side of a plane each point is on."""
-        return np.where((x - center) @ self.params[3:6] >= 0.0, 1.0, -1.0)
+    def sides(self, x: np.ndarray, center: np.ndarray) -> np.ndarray:
+        """±1: the side of a sided shape each point is on."""
+        return self.shape.sides(x - center, self.params[3:])
 
     def displacement(self, t: float, h: float) -> np.ndarray:
         """The object's motion over the substep [t, t + h], m."""
@@ -223,10 +189,10 @@ class ShapeCollider:
         p = self.params
         p[0:3] = after
         if not self._sides_known:
-            self.side[:] = self._sides(state.x_prev, before)  # before this substep
+            self.side[:] = self.sides(state.x_prev, before)  # before this substep
             self._sides_known = True
-        collide_shape(state.x, self.inv_mass, self.side, self.shape, p, self.thickness,
-                      self.depth, self.normal_at)
+        collide_shape(state.x, self.inv_mass, self.side, self.shape.code, p, self.grid,
+                      self.gradient, self.thickness, self.depth, self.normal_at)
 
     def apply_friction(self, state, h):
         d = self.displacement(state.t, h)
@@ -234,13 +200,14 @@ class ShapeCollider:
                                d[2], self.friction, KINETIC_SHARE * self.friction)
 
     def signed_distance(self, x: np.ndarray) -> np.ndarray:
-        """Distance of each point outside the true surface (negative inside), m. A plane
-        whose particles' sides are not known yet counts each point on its own side."""
+        """Distance of each point outside the true surface (negative inside), m. A sided
+        shape whose particles' sides are not known yet counts each point on its own side."""
         p = self.params.copy()
         p[0:3] = self.center
-        side = self.side if self._sides_known else self._sides(x, self.center)
+        side = self.side if self._sides_known else self.sides(x, self.center)
         out = np.empty(len(x))
-        signed_distances(np.ascontiguousarray(x, dtype=np.float64), side, self.shape, p, out)
+        signed_distances(np.ascontiguousarray(x, dtype=np.float64), side, self.shape.code, p,
+                         self.grid, self.gradient, out)
         return out
 
     def penetration(self, x: np.ndarray) -> float:
@@ -252,7 +219,8 @@ class ShapeCollider:
         return float(max(0.0, -self.signed_distance(x)[free].min()))
 
     def pose(self, t: float) -> ObjectPose | None:
-        return None
+        c = self.center_at(t)
+        return ObjectPose(self.shape.name, self.parameters, tuple(float(v) for v in c))
 
 
 class Floor(ShapeCollider):
@@ -260,49 +228,25 @@ class Floor(ShapeCollider):
     pushed up). The renderer draws it from the scene, so it has no pose."""
 
     def __init__(self, model, height: float, friction: float, thickness: float):
-        super().__init__(model, "collide_floor", PLANE, (0.0, height, 0.0), friction,
-                         thickness)
-        self.params[3:6] = 0.0, 1.0, 0.0
+        parameters = {"normal": (0.0, 1.0, 0.0)}
+        inputs = plane.SHAPE.inputs_of(parameters)
+        super().__init__(model, plane.SHAPE, inputs, (0.0, height, 0.0), friction=friction,
+                         thickness=thickness)
+        self.name = "collide_floor"
         self._sides_known = True  # every particle above: side[:] = +1
 
-
-class ObjectCollider(ShapeCollider):
-    """A sphere, box, plane or capsule; static, or moving along the orbit."""
-
-    def __init__(self, model, kind: str, center, *, radius=0.25, size=(0.5, 0.2, 0.5),
-                 normal=(0.0, 1.0, 0.0), axis=(1.0, 0.0, 0.0), length=0.5, friction=0.9,
-                 thickness=0.005, moving=False):
-        super().__init__(model, f"collide_{kind}", SHAPES[kind], center, friction, thickness)
-        self.kind, self.moving = kind, moving
-        self.radius = float(radius)
-        self.size = np.asarray(size, dtype=np.float64)
-        self.normal = _unit(normal)
-        self.axis = _unit(axis)
-        self.length = float(length)
-        if kind == "sphere":
-            self.params[3] = self.radius
-        elif kind == "box":
-            self.params[3:6] = 0.5 * self.size
-        elif kind == "capsule":
-            self.params[3:6] = self.axis
-            self.params[6:8] = 0.5 * self.length, self.radius
-        else:
-            self.params[3:6] = self.normal
-
-    def center_at(self, t: float) -> np.ndarray:
-        return self.center0 + orbit_offset(t) if self.moving else self.center0
-
-    def pose(self, t: float) -> ObjectPose:
-        c = self.center_at(t)
-        return ObjectPose(self.kind, tuple(float(v) for v in c), self.radius,
-                          tuple(float(v) for v in self.size),
-                          tuple(float(v) for v in self.normal),
-                          tuple(float(v) for v in self.axis), self.length)
+    def pose(self, t: float) -> ObjectPose | None:
+        return None
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=np.float64)
-    return v / np.linalg.norm(v)
+def object_collider(model, obj, *, friction: float, thickness: float,
+                    where: str = "object") -> ShapeCollider:
+    """The collider of one validated SceneObject (`where` names it in messages); its
+    `friction` is the object's own or the scene's."""
+    shape = shape_of(obj.type)
+    return ShapeCollider(model, shape, shape.kernel_inputs(obj, model.spacing, thickness, where),
+                         obj.center, friction=friction, thickness=thickness,
+                         moving=obj.motion == "orbit")
 
 
 class ResolveContacts:
@@ -348,36 +292,29 @@ def orbit_offset(t: float) -> np.ndarray:
     return ORBIT_RADIUS * np.array([math.sin(a), 0.0, 1.0 - math.cos(a)])
 
 
-def single_object(kind: str) -> dict:
-    """The original's single object in SI units (its 500-unit sheet → 1 m): sphere r 0.25
-    resting on the floor (−0.5); box 0.5×0.2×0.5 at the origin; a plane through the origin
-    tilted 20° about x; a capsule lying along x under the sheet's centre."""
-    tilt = math.radians(PLANE_TILT_DEG)
-    return {
-        "sphere": dict(center=(0.0, -0.25, 0.0), radius=0.25),
-        "box": dict(center=(0.0, 0.0, 0.0), size=(0.5, 0.2, 0.5)),
-        "plane": dict(center=(0.0, 0.0, 0.0), normal=(0.0, math.cos(tilt), math.sin(tilt))),
-        "capsule": dict(center=(0.0, -0.1, 0.0), radius=0.15, length=0.5,
-                        axis=(1.0, 0.0, 0.0)),
-    }[kind]
+def scene_objects(scene) -> list[tuple[str, object]]:
+    """(key, SceneObject) of every object of the scene: scene.object (in the original's
+    placement), then [[objects]] in order."""
+    out = []
+    if scene.scene.object != "none":
+        shape = shape_of(scene.scene.object)
+        out.append(("scene.object", SceneObject(type=shape.name, motion="orbit"
+                                                if scene.scene.moving else "static",
+                                                **shape.single_object)))
+    out += [(f"objects[{k}]", o) for k, o in enumerate(scene.objects)]
+    return out
 
 
 def build_colliders(scene, model) -> list[Collider]:
-    """Collider effects the scene enables: the floor, then scene.object, then [[objects]]
-    (meshes apart: mesh_collider.build_mesh_colliders)."""
+    """Collider effects the scene enables: the floor, then each object of scene_objects."""
     s = scene.scene
     out = []
     if s.floor:
         out.append(Floor(model, s.floor_height, s.friction, s.thickness))
-    if s.object != "none":
-        out.append(ObjectCollider(model, s.object, friction=s.friction, thickness=s.thickness,
-                                  moving=s.moving, **single_object(s.object)))
-    for o in scene.objects:
-        if o.type == "mesh":
-            continue
-        out.append(ObjectCollider(model, o.type, o.center, radius=o.radius, size=o.size,
-                                  normal=o.normal, axis=o.axis, length=o.length,
-                                  thickness=s.thickness,
-                                  friction=s.friction if o.friction < 0 else o.friction,
-                                  moving=o.motion == "orbit"))
+    objects = scene_objects(scene)
+    for shape in SHAPES.values():
+        shape.check_scene([(where, o) for where, o in objects if o.type == shape.name])
+    out += [object_collider(model, o, where=where, thickness=s.thickness,
+                            friction=s.friction if o.friction < 0 else o.friction)
+            for where, o in objects]
     return out

@@ -17,9 +17,8 @@ import dataclasses
 import numpy as np
 
 from ..scene import Scene, SceneError
-from .colliders import ORBIT_PERIOD, Floor, ObjectCollider, ShapeCollider, build_colliders
+from .colliders import ORBIT_PERIOD, Floor, ShapeCollider, build_colliders, scene_objects
 from .forces import wave_rows
-from .mesh_collider import build_mesh_colliders
 from .model import ClothModel, build_model
 from .pins import hard_anchors, track_times
 
@@ -54,20 +53,18 @@ def _check_object(scene: Scene, where: str, collider: ShapeCollider, center: np.
     """The check for one object with its centre at `center`; `when` says where on its
     orbit, for a moving one."""
     s = scene.scene
-    if isinstance(collider, ObjectCollider) and collider.kind == "plane":
-        d = (points - center) @ collider.normal
-        if (d > 0).any() and (d < 0).any():
-            raise SceneError(f"{where} (a plane{when}) passes between held particles "
-                             f"({_held(scene)}): the sheet is held on both sides of a plane "
-                             "it cannot cross; move the plane or the sheet")
-        d = np.abs(d)
-    else:
-        collider.center = center  # what signed_distance measures from
-        d = collider.signed_distance(points)
+    kind = collider.shape.name
+    if collider.shape.sided:
+        side = collider.sides(points, center)
+        if (side > 0).any() and (side < 0).any():
+            raise SceneError(f"{where} (a {kind}{when}) passes between held particles "
+                             f"({_held(scene)}): the sheet is held on both sides of a {kind} "
+                             "it cannot cross; move it or the sheet")
+    collider.center = center  # what signed_distance measures from (a sided shape: each
+    d = collider.signed_distance(points)  # point on its own side, none known yet)
     k = int(np.argmin(d))
     if d[k] < s.thickness:
         p = ", ".join(f"{v:.3g}" for v in points[k])
-        kind = collider.name.removeprefix("collide_")
         raise SceneError(f"{where} (a {kind}{when}) encloses a held particle ({_held(scene)}) "
                          f"at ({p}) m: it is within the object's surface + scene.thickness "
                          f"= {s.thickness:g} m, where no contact can push it out; move the "
@@ -109,13 +106,6 @@ def _held_positions(scene: Scene, model: ClothModel) -> list[np.ndarray]:
 
 
 def _objects(scene: Scene, model: ClothModel) -> list[tuple[str, ShapeCollider]]:
-    """(key, collider) of every object, the floor left out: build_colliders gives
-    scene.object, then the shapes of [[objects]] in order; build_mesh_colliders the meshes."""
-    shapes = [c for c in build_colliders(scene, model) if not isinstance(c, Floor)]
-    meshes = build_mesh_colliders(scene, model)
-    where = ["scene.object"] if scene.scene.object != "none" else []
-    where += [f"objects[{i}]" for i, o in enumerate(scene.objects) if o.type != "mesh"]
-    where += [f"objects[{i}]" for i, o in enumerate(scene.objects) if o.type == "mesh"]
-    colliders = shapes + meshes
-    assert len(where) == len(colliders)  # the order build_colliders documents
-    return list(zip(where, colliders))
+    """(key, collider) of every object, the floor left out, in build_colliders' order."""
+    colliders = [c for c in build_colliders(scene, model) if not isinstance(c, Floor)]
+    return [(where, c) for (where, _), c in zip(scene_objects(scene), colliders, strict=True)]

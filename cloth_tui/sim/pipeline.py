@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..scene import Scene
-from . import (colliders, forces, impulses, mesh_collider, selfcollision, solvers, springs,
+from . import (colliders, forces, impulses, selfcollision, solvers, springs,
                tearing)
 from .model import ClothModel
 from .pins import pin_effects
@@ -106,8 +106,7 @@ def build(scene: Scene, model: ClothModel, substeps: int | None = None) -> Step:
     if not scene.forces.integrate:
         return Step(model, [], n_sub, h)
     solver = make_solver(scene, model, h, forces.build_forces(scene, model))
-    collider_effects = (colliders.build_colliders(scene, model)
-                        + mesh_collider.build_mesh_colliders(scene, model))
+    collider_effects = colliders.build_colliders(scene, model)
     contact_effects = collider_effects + selfcollision.build_self_collision(scene, model)
     tear = (tearing.TearConstraints(model, b.tear_stretch)
             if b.tear and model.num_constraints else None)

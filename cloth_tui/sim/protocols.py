@@ -14,21 +14,18 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..meshes import MeshSurface
     from .state import ClothState
 
 
 @dataclass(frozen=True)
 class ObjectPose:
-    """Where an object is now, for the renderer (a copy; never shared with the kernels)."""
+    """Where an object is now and what it is, for the renderer and a bake (a copy; never
+    shared with the kernels): its shape's registered `type`, that shape's `parameters`
+    (sim/shapes/base.py: a sphere's {"radius": r}, a mesh's {"surface": MeshSurface}, ...)
+    and its centre, m."""
     type: str
+    parameters: dict
     center: tuple
-    radius: float = 0.0
-    size: tuple = (0.0, 0.0, 0.0)
-    normal: tuple = (0.0, 1.0, 0.0)
-    axis: tuple = (1.0, 0.0, 0.0)  # capsule
-    length: float = 0.5            # capsule: length of its axis segment, m
-    surface: MeshSurface | None = None  # mesh: its triangles, in the frame centred on `center`
 
 
 class Effect(Protocol):

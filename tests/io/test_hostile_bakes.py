@@ -14,12 +14,29 @@ from . import hostile_bakes as hostile
 pytest.importorskip("pxr")
 
 
-@pytest.fixture(scope="module")
-def bake(tmp_path_factory):
-    out = tmp_path_factory.mktemp("bake") / "b.usda"
-    assert main(["bake", "sphere", "-o", str(out), "--frames", "4",
-                 "--set", "cloth.resolution=5"]) == 0
+def bake_of(folder, kind: str):
+    """A short bake of the default scene with the single object `kind` (Object_0)."""
+    out = folder / f"{kind}.usda"
+    if not out.exists():
+        assert main(["bake", "default", "-o", str(out), "--frames", "4",
+                     "--set", "cloth.resolution=5", "--set", f"scene.object={kind}"]) == 0
     return out
+
+
+@pytest.fixture(scope="module")
+def bakes(tmp_path_factory):
+    """kind → a bake with that object, made once per module."""
+    folder = tmp_path_factory.mktemp("bakes")
+    return lambda kind: bake_of(folder, kind)
+
+
+@pytest.fixture(scope="module")
+def bake(bakes):
+    return bakes("sphere")
+
+
+# which recorded shape holds each attribute the tests below spoil
+HOLDER = {"radius": "sphere", "type": "sphere", "size": "box", "axis": "capsule"}
 
 
 def refused(capfd, path, says, command="render"):
@@ -40,8 +57,8 @@ def test_frame_rates_no_bake_has_are_refused(tmp_path, capfd, bake, rate, comman
 
 
 @pytest.mark.parametrize("name", ["radius", "size", "type"])
-def test_an_object_missing_an_attribute_is_refused(tmp_path, capfd, bake, name):
-    path = hostile.drop_attribute(bake, tmp_path / "o.usda", name)
+def test_an_object_missing_an_attribute_is_refused(tmp_path, capfd, bakes, name):
+    path = hostile.drop_attribute(bakes(HOLDER[name]), tmp_path / "o.usda", name)
     if name == "type":  # no type: not a cloth-tui object, drawn as nothing, still fine
         assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 0
         return
@@ -54,9 +71,10 @@ def test_an_object_missing_an_attribute_is_refused(tmp_path, capfd, bake, name):
     ("axis", (0.0, 0.0, 0.0), "Double3", "too short to give a direction"),
     ("size", (1.0, -1.0, 1.0), "Double3", "none negative"),
     ("type", "teapot", "String", "cloth_tui:type = 'teapot'")])
-def test_object_attributes_of_the_wrong_type_or_value_are_refused(tmp_path, capfd, bake, name,
-                                                                   value, type_name, says):
-    refused(capfd, hostile.object_value(bake, tmp_path / "o.usda", name, value, type_name), says)
+def test_object_attributes_of_the_wrong_type_or_value_are_refused(tmp_path, capfd, bakes,
+                                                                   name, value, type_name, says):
+    refused(capfd, hostile.object_value(bakes(HOLDER[name]), tmp_path / "o.usda", name, value,
+                                        type_name), says)
 
 
 @pytest.mark.parametrize("value", [5, 2.5, True])

@@ -54,7 +54,7 @@ def test_sphere_bake_reads_back_as_the_simulation(tmp_path):
     assert st.GetInterpolation() == UsdGeom.Tokens.vertex and len(st.Get()) == n * n
 
     sphere = UsdGeom.Sphere.Get(stage, "/World/Objects/Object_0/Shape")
-    assert sphere and sphere.GetRadiusAttr().Get() == pytest.approx(poses[0][0].radius)
+    assert sphere and sphere.GetRadiusAttr().Get() == pytest.approx(poses[0][0].parameters["radius"])
     centre = UsdGeom.Xformable(sphere.GetPrim()).ComputeLocalToWorldTransform(1.0)
     np.testing.assert_allclose(centre.ExtractTranslation(), poses[0][0].center)
     ground = UsdGeom.Mesh.Get(stage, "/World/Ground")
@@ -78,7 +78,7 @@ def test_moving_object_has_time_sampled_translate_and_still_one_none(tmp_path):
     # The capsule's own axis (z) turned onto the scene's axis.
     local = capsule.GetLocalTransformation()
     axis = np.asarray(local.TransformDir((0.0, 0.0, 1.0)))
-    np.testing.assert_allclose(axis, poses[0][0].axis, atol=1e-6)
+    np.testing.assert_allclose(axis, poses[0][0].parameters["axis"], atol=1e-6)
 
     still = tmp_path / "still.usda"
     assert main(["bake", "box", "-o", str(still), "--frames", "3",

@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.colliders import ObjectPose
+from cloth_tui.sim.protocols import ObjectPose
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Snapshot
 
@@ -35,7 +35,7 @@ def with_positions(snap: Snapshot, positions) -> Snapshot:
     return dataclasses.replace(snap, positions=np.asarray(positions))
 
 
-SPHERE = ObjectPose("sphere", (0.0, -0.25, 0.0), radius=0.25)
+SPHERE = ObjectPose("sphere", {"radius": 0.25}, (0.0, -0.25, 0.0))
 
 
 def red_pixels(img: np.ndarray) -> int:

@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cloth_tui.sim.colliders import ObjectPose
+from cloth_tui.sim.protocols import ObjectPose
+from cloth_tui.sim.shapes.base import unit
 
 from .helpers import draped, scene_with
 
@@ -22,11 +23,11 @@ MAX_MEAN_DIFF = 2.0       # mean |difference| over all channels, 0..255
 MAX_BAD_SHARE = 0.01      # share of pixels allowed to differ by more than BAD_PIXEL
 BAD_PIXEL = 48
 
-OBJECTS = (ObjectPose("sphere", (-0.3, -0.3, 0.2), radius=0.2),
-           ObjectPose("box", (0.3, -0.4, -0.2), size=(0.3, 0.2, 0.3)),
-           ObjectPose("capsule", (0.3, -0.3, 0.35), radius=0.08, axis=(1.0, 0.0, 0.0),
-                      length=0.3),
-           ObjectPose("plane", (0.0, -0.45, -0.5), normal=(0.0, 0.3, 1.0)))
+OBJECTS = (ObjectPose("sphere", {"radius": 0.2}, (-0.3, -0.3, 0.2)),
+           ObjectPose("box", {"size": (0.3, 0.2, 0.3)}, (0.3, -0.4, -0.2)),
+           ObjectPose("capsule", {"radius": 0.08, "axis": (1.0, 0.0, 0.0), "length": 0.3},
+                      (0.3, -0.3, 0.35)),
+           ObjectPose("plane", {"normal": unit((0.0, 0.3, 1.0))}, (0.0, -0.45, -0.5)))
 
 CASES = {
     "default": lambda: draped(scene_with()),

@@ -9,7 +9,16 @@ from cloth_tui.scene import SceneObject
 from cloth_tui.sim import colliders
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.shapes import shape_of
 from .helpers import run, scene
+
+
+def shape_collider(m, kind, center=(0.0, 0.0, 0.0), *, friction=0.9, thickness=0.005,
+                   moving=False, **keys):
+    """The collider of a SceneObject of this type and keys."""
+    obj = SceneObject(type=kind, center=list(center), motion="orbit" if moving else "static",
+                      **{k: list(v) if isinstance(v, tuple) else v for k, v in keys.items()})
+    return colliders.object_collider(m, obj, friction=friction, thickness=thickness)
 
 
 def one_particle_model():
@@ -25,8 +34,8 @@ def four(p):
 def collide(kind, p, p_prev, friction=0.0, thickness=0.01, **shape):
     """Run one collider on four copies of a particle; return the new position."""
     m = one_particle_model()
-    c = colliders.ObjectCollider(m, kind, shape.pop("center", (0.0, 0.0, 0.0)),
-                                 friction=friction, thickness=thickness, **shape)
+    c = shape_collider(m, kind, shape.pop("center", (0.0, 0.0, 0.0)), friction=friction,
+                       thickness=thickness, **shape)
 
     class S:
         x = np.tile(np.asarray(p, float), (4, 1))
@@ -89,8 +98,8 @@ def contact_then_friction(c, p, p_prev, t=0.0, h=0.01, between=None):
 
 
 def plane(friction):
-    return colliders.ObjectCollider(one_particle_model(), "plane", (0.0, 0.0, 0.0),
-                                    normal=(0.0, 1.0, 0.0), friction=friction, thickness=0.01)
+    return shape_collider(one_particle_model(), "plane", normal=(0.0, 1.0, 0.0),
+                          friction=friction, thickness=0.01)
 
 
 def test_coulomb_friction_sticks_below_mu_times_depth_and_slides_above():
@@ -120,8 +129,8 @@ def test_friction_resists_what_the_constraints_add_after_the_contact():
 
 def test_a_moving_object_carries_what_sticks_to_it():
     m = one_particle_model()
-    c = colliders.ObjectCollider(m, "box", (0.0, 0.0, 0.0), size=(0.5, 0.2, 0.5), friction=1.0,
-                                 thickness=0.01, moving=True)
+    c = shape_collider(m, "box", size=(0.5, 0.2, 0.5), friction=1.0, thickness=0.01,
+                       moving=True)
     prev = np.array([0.0, 0.1 + 0.01, 0.0])  # resting on the top face's skin
     # pressed 1 mm in while the box moves ≈ 0.3 mm: within μ·δ, so it moves with the box
     x = contact_then_friction(c, prev - [0.0, 0.001, 0.0], prev, t=1.0, h=0.002)
@@ -183,14 +192,14 @@ def test_moving_sphere_drags_a_draped_sheet():
 
 def test_orbit_pose_and_static_pose():
     m = one_particle_model()
-    c = colliders.ObjectCollider(m, "sphere", (0.0, -0.25, 0.0), moving=True)
+    c = shape_collider(m, "sphere", (0.0, -0.25, 0.0), moving=True)
     assert c.pose(0.0).center == pytest.approx((0.0, -0.25, 0.0))
     half = c.pose(colliders.ORBIT_PERIOD / 2)
     assert half.center == pytest.approx((0.0, -0.25, 2 * colliders.ORBIT_RADIUS))
     assert c.pose(colliders.ORBIT_PERIOD).center == pytest.approx((0.0, -0.25, 0.0), abs=1e-12)
-    still = colliders.ObjectCollider(m, "box", (1.0, 2.0, 3.0), size=(0.1, 0.2, 0.3))
-    assert still.pose(5.0) == colliders.ObjectPose("box", (1.0, 2.0, 3.0), 0.25,
-                                                    (0.1, 0.2, 0.3), (0.0, 1.0, 0.0))
+    still = shape_collider(m, "box", (1.0, 2.0, 3.0), size=(0.1, 0.2, 0.3))
+    assert still.pose(5.0) == colliders.ObjectPose("box", {"size": (0.1, 0.2, 0.3)},
+                                                    (1.0, 2.0, 3.0))
 
 
 def test_objects_list_builds_multi_object_scenes_in_order():
@@ -218,7 +227,7 @@ def test_plane_holds_a_rising_sheet_below_it():
 
 
 def test_tilted_plane_normal_is_20_degrees_from_vertical():
-    n = np.array(colliders.single_object("plane")["normal"])
+    n = np.array(shape_of("plane").single_object["normal"])
     assert math.degrees(math.acos(n[1] / np.linalg.norm(n))) == pytest.approx(20.0)
 
 

@@ -8,7 +8,7 @@ pv = pytest.importorskip("pyvista")
 from cloth_tui import meshes  # noqa: E402
 from cloth_tui.scene import Scene, SceneObject  # noqa: E402
 from cloth_tui.sim import pipeline  # noqa: E402
-from cloth_tui.sim.mesh_collider import MeshCollider  # noqa: E402
+from cloth_tui.sim.colliders import ShapeCollider  # noqa: E402
 from cloth_tui.sim.runner import Simulation  # noqa: E402
 
 from .helpers import run, scene  # noqa: E402
@@ -98,9 +98,9 @@ def test_a_sphere_mesh_holds_the_sheet_where_the_analytic_sphere_does(sphere_stl
 def test_scale_and_friction_reach_the_collider(sphere_stl):
     s = mesh_scene(sphere_stl, center=[0.0, -0.25, 0.0], scale=0.5, friction=0.2)
     step = pipeline.build(s, Simulation(s).model)
-    (mesh,) = [c for c in step.colliders if isinstance(c, MeshCollider)]
+    (mesh,) = [c for c in step.colliders if isinstance(c, ShapeCollider) and c.shape.name == "mesh"]
     assert mesh.friction == 0.2
-    r = np.linalg.norm(mesh.field.surface.vertices, axis=1)
+    r = np.linalg.norm(mesh.parameters["surface"].vertices, axis=1)
     assert r.max() == pytest.approx(0.125, rel=1e-3)
     assert mesh.signed_distance(np.array([[0.0, -0.25 + 0.15, 0.0]]))[0] == \
         pytest.approx(0.025, abs=2e-3)
@@ -110,7 +110,7 @@ def test_an_orbiting_mesh_carries_its_grid_along(sphere_stl):
     s = mesh_scene(sphere_stl, center=[0.0, -0.25, 0.0], motion="orbit")
     sim = Simulation(s)
     run(sim, 30)
-    (mesh,) = [c for c in sim.step.colliders if isinstance(c, MeshCollider)]
+    (mesh,) = [c for c in sim.step.colliders if isinstance(c, ShapeCollider) and c.shape.name == "mesh"]
     c = mesh.center_at(sim.state.t)
     assert not np.allclose(c, [0.0, -0.25, 0.0])
     top = c + [0.0, 0.25, 0.0]

@@ -1,0 +1,60 @@
+"""An axis-aligned box of sides `size` about its centre."""
+
+from __future__ import annotations
+
+import math
+
+from ...scene_keys import SceneError, vec3
+from .base import SIDES, Shape
+
+
+def distance(qx, qy, qz, p, side, grid, gradient):
+    ox = abs(qx) - p[3]  # p[3:6]: the half sides
+    oy = abs(qy) - p[4]
+    oz = abs(qz) - p[5]
+    sx = 1.0 if qx >= 0.0 else -1.0
+    sy = 1.0 if qy >= 0.0 else -1.0
+    sz = 1.0 if qz >= 0.0 else -1.0
+    if ox > 0.0 or oy > 0.0 or oz > 0.0:
+        ux = sx * max(ox, 0.0)
+        uy = sy * max(oy, 0.0)
+        uz = sz * max(oz, 0.0)
+        d = math.sqrt(ux * ux + uy * uy + uz * uz)
+        return d, ux / d, uy / d, uz / d
+    if ox >= oy and ox >= oz:  # inside: leave through the nearest face
+        return ox, sx, 0.0, 0.0
+    if oy >= oz:
+        return oy, 0.0, sy, 0.0
+    return oz, 0.0, 0.0, sz
+
+
+class Box(Shape):
+    name = "box"
+    code = 1
+    keys = {"size": vec3([0.5, 0.2, 0.5], "sides along x, y and z (axis-aligned)", unit="m")}
+    parameter_kinds = {"size": SIDES}
+    single_object = dict(center=[0.0, 0.0, 0.0], size=[0.5, 0.2, 0.5])
+    smooth = False
+    distance = staticmethod(distance)
+
+    def check(self, obj, where: str) -> None:
+        if min(obj.size) < 0.0:
+            raise SceneError(f"{where}: a box's size {list(obj.size)} has a negative side")
+
+    def parameters(self, obj) -> dict:
+        return {"size": tuple(float(v) for v in obj.size)}
+
+    def pack(self, parameters: dict) -> tuple:
+        return tuple(0.5 * v for v in parameters["size"])
+
+    def render_mesh(self, pv, parameters: dict):
+        sx, sy, sz = (v / 2 for v in parameters["size"])
+        return pv.Box((-sx, sx, -sy, sy, -sz, sz))
+
+    def define_usd(self, usd, stage, path: str, parameters: dict) -> None:
+        cube = usd.UsdGeom.Cube.Define(stage, path)
+        cube.CreateSizeAttr(1.0)
+        cube.AddScaleOp().Set(usd.Gf.Vec3f(*parameters["size"]))
+
+
+SHAPE = Box()
