@@ -32,7 +32,7 @@ import numpy as np
 from ..scene import SceneObject
 from .jit import kernel
 from .protocols import Collider, ObjectPose
-from .shapes import SHAPES, Shape, box, capsule, mesh, plane, shape_of, sphere
+from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere
 from .shapes.base import KernelInputs
 
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
@@ -49,9 +49,11 @@ _box = kernel(inline="always")(box.distance)
 _capsule = kernel(inline="always")(capsule.distance)
 _plane = kernel(inline="always")(plane.distance)
 _mesh = kernel(inline="always")(mesh.distance)
-SPHERE, BOX, CAPSULE, PLANE, MESH = (sphere.SHAPE.code, box.SHAPE.code, capsule.SHAPE.code,
-                                     plane.SHAPE.code, mesh.SHAPE.code)
-DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH}  # the codes shape_distance has a branch for
+_cylinder = kernel(inline="always")(cylinder.distance)
+SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER = (
+    sphere.SHAPE.code, box.SHAPE.code, capsule.SHAPE.code, plane.SHAPE.code, mesh.SHAPE.code,
+    cylinder.SHAPE.code)
+DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER}  # the codes shape_distance has a branch for
 
 
 @kernel(inline="always")
@@ -70,6 +72,8 @@ def shape_distance(code, qx, qy, qz, p, side, grid, gradient):
         return _plane(qx, qy, qz, p, side, grid, gradient)
     if code == MESH:
         return _mesh(qx, qy, qz, p, side, grid, gradient)
+    if code == CYLINDER:
+        return _cylinder(qx, qy, qz, p, side, grid, gradient)
     return math.nan, 0.0, 1.0, 0.0
 
 

@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import dataclasses
 
-from . import box, capsule, mesh, plane, sphere
+from . import box, capsule, cylinder, mesh, plane, sphere
 from . import base
 from .base import Shape
 
 SHAPES: dict[str, Shape] = {s.name: s for s in (sphere.SHAPE, box.SHAPE, plane.SHAPE,
-                                                 capsule.SHAPE, mesh.SHAPE)}
+                                                 capsule.SHAPE, mesh.SHAPE, cylinder.SHAPE)}
 
 
 class UnknownShapeError(ValueError):
