@@ -3,6 +3,7 @@ import math
 import numpy as np
 
 from cloth_tui.render.geometry import hex_rgb
+from cloth_tui.sim.protocols import ObjectPose
 from cloth_tui.sim.surface import vertex_normals
 
 from .helpers import SPHERE, draped, red_pixels, scene_with, with_positions
@@ -107,7 +108,7 @@ def test_objects_are_drawn_and_moved_in_place(renderer):
     without = fresh(renderer, draped(scene, sag=0.05))
     with_sphere = renderer.render(draped(scene, sag=0.05, objects=(SPHERE,)))
     actors = len(renderer.plotter.renderer.actors)
-    moved = SPHERE.__class__("sphere", (0.6, -0.25, 0.0), radius=0.25)
+    moved = ObjectPose("sphere", {"radius": 0.25}, (0.6, -0.25, 0.0))
     elsewhere = renderer.render(draped(scene, sag=0.05, objects=(moved,)))
     assert len(renderer.plotter.renderer.actors) == actors  # moved, not re-added
     assert np.abs(with_sphere.astype(int) - without).mean() > 0.3
