@@ -28,10 +28,19 @@ MAX_ROWS = 6
 CANTILEVER_LOADS = (2.0, 8.0, 20.0)
 DEFAULT_MATERIAL = "denim"
 PEIRCE_PRESETS = ("denim", "jersey", "tablecloth")
-SETTLE_S = 2.0             # s of simulated time for a clamped strip to come to rest
-SETTLE_PERIODS = 12.0      # … and at least this many of its first mode's periods
+# Settled: the tip's drop moved by less than SETTLED_DRIFT·L over the last check, checked
+# every CHECK_PERIODS of the first mode from MIN_PERIODS on; not by MAX_PERIODS: a LabError.
+SETTLED_DRIFT = 1e-5
+CHECK_PERIODS = 0.5
+MIN_PERIODS = 3.0
+MAX_PERIODS = 40.0
 ITERATIONS = 8
-SUBSTEPS = 20
+FRAME_RATE = 60.0
+SUBSTEPS = 20              # the fewest per frame
+# The most bending per substep, h²·B/(ρ_A·dx⁴), the warm-started stencils are given: beyond
+# ~2 at 8 iterations the unconverged stretch and the carried bending stop settling
+# (docs/physics.md, "Warm-started bending").
+MAX_BENDING_PER_STEP = 1.0
 PEIRCE_ANGLE_TOLERANCE = math.radians(0.005)  # how near 41.5° the search stops
 PEIRCE_MAX_RUNS = 8
 
@@ -68,6 +77,15 @@ def material_table(material, damping: float) -> dict:
             "shear": material.shear, "bending": material.bending, "damping": damping}
 
 
+def substeps_for(spacing: float, material, frame_rate: float) -> int:
+    """Substeps per frame that keep h²·B/(ρ_A·dx⁴) within MAX_BENDING_PER_STEP (at least
+    SUBSTEPS): the bending's stiffness per step grows as 1/dx⁴, so a finer strip needs
+    shorter steps, h ∝ dx²."""
+    longest = spacing ** 2 * math.sqrt(MAX_BENDING_PER_STEP * material.areal_density /
+                                       material.bending)
+    return max(SUBSTEPS, math.ceil(1.0 / (frame_rate * longest)))
+
+
 def clamped_strip(free_length: float, links: int, material):
     """(scene, rows, columns, h): the strip of `links` free links clamped by its first
     three columns, held where the flat sheet lies."""
@@ -78,26 +96,48 @@ def clamped_strip(free_length: float, links: int, material):
     scene = strip_scene(size=[length, STRIP_WIDTH], resolution=[cols, rows],
                         pins=[{"cols": [0, HELD_COLUMNS - 1]}],
                         behavior={"solver": "xpbd", "iterations": ITERATIONS,
-                                  "substeps": SUBSTEPS},
+                                  "frame_rate": FRAME_RATE,
+                                  "substeps": substeps_for(h, material, FRAME_RATE)},
                         material_section=material_table(
                             material, settling_damping(free_length, material)))
     return scene, rows, cols, h
 
 
-def settle_clamped(free_length: float, links: int, material) -> dict:
-    """Runs the clamped strip to rest; returns its tip's drop and reach from the clamp's
-    edge (m, mean over the rows), the line's angle below horizontal and the wall time."""
-    scene, rows, cols, h = clamped_strip(free_length, links, material)
-    sim = warmed_simulation(scene)
-    settle = max(SETTLE_S, SETTLE_PERIODS * first_mode_period(free_length, material))
-    wall = timed_frames(sim, math.ceil(settle * scene.behavior.frame_rate))
+def _tip(sim, rows: int, cols: int) -> tuple[float, float]:
+    """(drop, reach) of the tip from the clamp's edge, m, mean over the rows."""
     x = sim.state.x.reshape(rows, cols, 3)
     edge_x = 0.5 * (x[:, HELD_COLUMNS - 2, 0] + x[:, HELD_COLUMNS - 1, 0])
-    drop = float(np.mean(x[:, HELD_COLUMNS - 1, 1] - x[:, -1, 1]))
-    reach = float(np.mean(x[:, -1, 0] - edge_x))
-    speed = float(np.abs(sim.state.v).max())
+    return (float(np.mean(x[:, HELD_COLUMNS - 1, 1] - x[:, -1, 1])),
+            float(np.mean(x[:, -1, 0] - edge_x)))
+
+
+def settle_clamped(free_length: float, links: int, material) -> dict:
+    """Runs the clamped strip to rest (its tip still to SETTLED_DRIFT·L over half a period);
+    returns its tip's drop and reach from the clamp's edge (m, mean over the rows), the
+    line's angle below horizontal, the wall time and the solve's settings."""
+    scene, rows, cols, h = clamped_strip(free_length, links, material)
+    sim = warmed_simulation(scene)
+    period = first_mode_period(free_length, material)
+    chunk = max(1, math.ceil(CHECK_PERIODS * period * scene.behavior.frame_rate))
+    wall = timed_frames(sim, math.ceil(MIN_PERIODS * period * scene.behavior.frame_rate))
+    drop, reach = _tip(sim, rows, cols)
+    while True:
+        wall += timed_frames(sim, chunk)
+        last = drop
+        drop, reach = _tip(sim, rows, cols)
+        if not math.isfinite(drop) or not sim.stats()["finite"]:
+            raise LabError(f"the clamped strip diverged at {links} links "
+                           f"({scene.behavior.substeps} substeps)")
+        if abs(drop - last) < SETTLED_DRIFT * free_length:
+            break
+        if sim.state.t > MAX_PERIODS * period:
+            raise LabError(f"the clamped strip did not settle in {MAX_PERIODS:g} periods at "
+                           f"{links} links (its tip still moving "
+                           f"{abs(drop - last) / free_length:.1e}·L per check)")
     return {"drop": drop, "reach": reach, "chord_angle": math.atan2(drop, reach),
-            "wall_s": wall, "max_speed": speed, "max_stretch": sim.stats()["max_stretch"]}
+            "wall_s": wall, "max_speed": float(np.abs(sim.state.v).max()),
+            "max_stretch": sim.stats()["max_stretch"], "substeps": scene.behavior.substeps,
+            "settled_s": sim.state.t}
 
 
 # --- cantilever --------------------------------------------------------------------------------
@@ -119,8 +159,8 @@ def _measure_cantilever(case: Case, links: int, material) -> Measurement:
     m = _cantilever_material(material)
     length = case.params["free_length"]
     r = settle_clamped(length, links, m)
-    return Measurement(r["drop"] / length, {"wall_s": r["wall_s"],
-                                            "max_stretch": r["max_stretch"]})
+    return Measurement(r["drop"] / length, {k: r[k] for k in ("wall_s", "max_stretch",
+                                                              "substeps")})
 
 
 CANTILEVER = Experiment(
@@ -131,8 +171,10 @@ CANTILEVER = Experiment(
     resolution_meaning="free links along the strip (h = L/(N + ½))",
     default_resolutions=(10, 20, 40), min_resolution=4, tolerance=0.02,
     cases=_cantilever_cases, measure=_measure_cantilever,
-    setup=f"xpbd with the material, {ITERATIONS} iterations, {SUBSTEPS} substeps, settled "
-          f"≥ {SETTLE_S:g} s at half-critical damping (default material {DEFAULT_MATERIAL})")
+    setup=f"xpbd with the material, {ITERATIONS} iterations, substeps keeping "
+          f"h²·B/(ρ_A·dx⁴) ≤ {MAX_BENDING_PER_STEP:g} (at least {SUBSTEPS}), settled at "
+          f"half-critical damping until the tip moves < {SETTLED_DRIFT:g}·L per half period "
+          f"(default material {DEFAULT_MATERIAL})")
 
 
 # --- peirce --------------------------------------------------------------------------------------

@@ -2,7 +2,7 @@
 colour sweeps with α̃ per edge, its shear cells and its bending stencils by the loops here.
 
 Each pass of a substep projects the stencils, then the cells, then the edges, and the passes
-repeat `iterations` times, each family going on with its own λ of the substep: Gauss-Seidel
+repeat `iterations` times, each family going on with its own λ: Gauss-Seidel
 over all of them, the stiff stretch last so a frame ends closest to it. For a constraint C
 with gradient ∇C and compliance α (α̃ = α/h²), every projection is
 
@@ -11,6 +11,16 @@ with gradient ∇C and compliance α (α̃ = α/h²), every projection is
 A cell's C = γ = (|d₁|² − |d₂|²)/(4·dx·dz) (d₁ = x₃ − x₀, d₂ = x₂ − x₁) has ∇₃ = −∇₀ = 2d₁/(4dxdz)
 and ∇₂ = −∇₁ = −2d₂/(4dxdz). A stencil's C = Σ_k c_k x_k is a 3-vector, linear in x, with
 ∇_k = c_k per component: its Δλ is a 3-vector with one scalar denominator.
+
+The stencils start each substep from the last one's multipliers (a warm start): their
+correction Σ w_k c_k λ is applied to the prediction first and the passes go on with λ. The
+stencils are linear, so that is exactly the last substep's bending correction, and at rest
+the bending solve starts at its answer and changes nothing: a settled strip bends as the
+material's B says whatever the iterations. From λ = 0, passes that do not converge settle
+where their partial correction balances the load, softer than the material the more its
+bending per step, h²·B/(ρ_A·dx⁴), outweighs its masses (docs/physics.md, "Warm-started
+bending"). The stiff stretch is not warm-started: carried over its unconverged passes, the
+last substep's corrections along turned edges diverge.
 """
 
 from __future__ import annotations
@@ -100,6 +110,24 @@ def project_stencils(x, inv_mass, particles, coeffs, alive, lam, alpha_t, fresh,
                 x[p, 2] += wc * dz
 
 
+@kernel()
+def warm_start_stencils(x, inv_mass, particles, coeffs, alive, lam):
+    """Applies each live stencil's correction for its λ of the last substep, x_k += w_k c_k λ
+    (the projection's own update with Δλ = λ); a torn one's λ is dropped."""
+    for s in range(particles.shape[0]):
+        if not alive[s]:
+            lam[s, 0] = 0.0
+            lam[s, 1] = 0.0
+            lam[s, 2] = 0.0
+            continue
+        for k in range(4):
+            p = particles[s, k]
+            wc = inv_mass[p] * coeffs[s, k]
+            x[p, 0] += wc * lam[s, 0]
+            x[p, 1] += wc * lam[s, 1]
+            x[p, 2] += wc * lam[s, 2]
+
+
 class ProjectFabric:
     """The constraint stage of xpbd with a material (module docstring). Keeps each family's
     multipliers of the last substep: `lambdas` (N·s², one per model.edges constraint, as
@@ -138,12 +166,15 @@ class ProjectFabric:
             self._mask_torn(state.alive, state.torn)
         m, f = self.model, self.fabric
         has_edges = m.num_constraints > 0
+        if f.stencils is not None:
+            warm_start_stencils(state.x, m.inv_mass, f.stencils.particles, f.stencils.coeffs,
+                                self.stencil_alive, self.stencil_lambdas)
         for it in range(self.iterations):
             fresh = it == 0
             if f.stencils is not None:
                 project_stencils(state.x, m.inv_mass, f.stencils.particles, f.stencils.coeffs,
                                  self.stencil_alive, self.stencil_lambdas,
-                                 self.stencil_alpha_t, fresh, 1)
+                                 self.stencil_alpha_t, False, 1)
             if f.num_cells:
                 project_cells(state.x, m.inv_mass, f.cells, self.cell_alive, self.cell_lambdas,
                               self.cell_alpha_t, self._scale, fresh, 1)

@@ -1,0 +1,40 @@
+"""The clamped strip run on the simulator with the lab's material: a strip of the scene format,
+its [material] the preset, xpbd, held by a pin group of three columns, settled until its tip
+stands still. Its tip's drop is within 2 % of the heavy elastica at wL³/B = 2, 8, 20 from
+L/10 to L/40, and the Peirce test on it gives back the material's B within 2 %."""
+
+import pytest
+
+from cloth_tui.lab import clamped
+from cloth_tui.lab.elastica import cantilever
+from cloth_tui.lab.study import lab_material
+
+BOUND = 0.02
+
+
+@pytest.mark.parametrize("links", [10, 20, 40])
+@pytest.mark.parametrize("load", clamped.CANTILEVER_LOADS)
+def test_the_tip_drop_is_the_elasticas(load, links):
+    denim = lab_material("denim")
+    length = clamped.strip_for_load(load, denim)
+    r = clamped.settle_clamped(length, links, denim)
+    assert r["drop"] / length == pytest.approx(cantilever(load).tip_drop, rel=BOUND)
+    assert r["max_stretch"] < 0.01  # it bends; it does not hang by stretching
+
+
+def test_a_finer_strip_takes_shorter_substeps():
+    """The bending's stiffness per step grows as 1/dx⁴: h ∝ dx² keeps it bounded."""
+    denim = lab_material("denim")
+    coarse = clamped.substeps_for(0.002, denim, 60.0)
+    fine = clamped.substeps_for(0.001, denim, 60.0)
+    assert fine == pytest.approx(4 * coarse, rel=0.05)
+    assert clamped.substeps_for(0.1, denim, 60.0) == clamped.SUBSTEPS
+
+
+@pytest.mark.parametrize("links", [10, 20, pytest.param(40, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("preset", clamped.PEIRCE_PRESETS)
+def test_the_peirce_test_gives_back_the_materials_bending(preset, links):
+    m = lab_material(preset)
+    case = next(c for c in clamped.PEIRCE.cases(m))
+    result = clamped.PEIRCE.measure(case, links, m)
+    assert result.value == pytest.approx(m.bending, rel=BOUND)
