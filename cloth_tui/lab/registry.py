@@ -12,6 +12,12 @@ TESTS = {
     "catenary": ("hanging", "CATENARY", "a strip between two hooks: sag against the catenary"),
     "swing": ("hanging", "SWING", "a strip hanging from its top edge: period against the "
                                   "hanging chain's"),
+    "cantilever": ("clamped", "CANTILEVER", "a strip clamped horizontally: tip drop against "
+                                            "the heavy elastica"),
+    "peirce": ("clamped", "PEIRCE", "ASTM D1388 done virtually: B from the 41.5° overhang "
+                                    "against the material's"),
+    "drape": ("drape", "DRAPE", "the Cusick test: drape coefficient and folds of a 30 cm disc "
+                                "(a report)"),
 }
 
 
