@@ -7,7 +7,8 @@ The order of a substep's stages lives here and only here (`assemble`):
     enforce_tethers         (if the model has tethers)
     solver.constraints()    the constraint projection (none for springs), then
     resolve_contacts        re-projection of what the constraints pulled into an object
-    tear_constraints        (behavior.tear) overstretched constraints break (tearing.py)
+    tear_constraints        (behavior.tear) overstretched constraints break, or with a
+    / tear_by_strength      material's tear_strength overloaded ones (tearing.py)
     contact_friction        Coulomb friction on the contacts' whole substep motion
     apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
     solver.velocities()
@@ -71,6 +72,15 @@ def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[F
     return solvers.PositionBasedSolver(model, b, force_effects, h)
 
 
+def tear_stage(scene: Scene, model: ClothModel, solver: Solver) -> Effect:
+    """By the material's strength where it has one (its constraints carry the fabric's
+    forces), else by behavior.tear_stretch (tearing.py)."""
+    strength = tearing.tear_strength(scene.behavior, model)
+    if strength is not None and isinstance(solver, solvers.PositionBasedSolver):
+        return tearing.TearByStrength(model, solver.lambdas, strength)
+    return tearing.TearConstraints(model, scene.behavior.tear_stretch)
+
+
 def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider],
              contact_effects: list[Effect], tear: Effect | None = None) -> list[Effect]:
     """The substep's stages, in order (see the module's docstring)."""
@@ -108,8 +118,7 @@ def build(scene: Scene, model: ClothModel, substeps: int | None = None) -> Step:
     solver = make_solver(scene, model, h, forces.build_forces(scene, model))
     collider_effects = colliders.build_colliders(scene, model)
     contact_effects = collider_effects + selfcollision.build_self_collision(scene, model)
-    tear = (tearing.TearConstraints(model, b.tear_stretch)
-            if b.tear and model.num_constraints else None)
+    tear = tear_stage(scene, model, solver) if b.tear and model.num_constraints else None
     effects = assemble(solver, model, collider_effects, contact_effects, tear)
     return Step(model, effects, n_sub, h, colliders=collider_effects,
                 frame_effects=impulses.build_impulses(scene, model), solver=solver)

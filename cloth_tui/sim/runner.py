@@ -13,6 +13,7 @@ import numpy as np
 
 from ..scene import Behavior, Scene, SceneError, integrator_for
 from . import pipeline
+from .fabric_solve import ProjectFabric, fabric_force_energy
 from .measures import (all_finite, elastic_energy, energy, free_energy,
                        gravitational_energy, kinetic_energy, per_constraint, potential_floor,
                        solve_error, stretch)
@@ -23,7 +24,7 @@ from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
 from .stages import damping_factor
-from .tearing import cut_between
+from .tearing import cut_between, strength_tolerance, tear_strength
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
@@ -121,7 +122,7 @@ class Simulation:
         self.halted: str | None = None  # why stepping stopped, if it did
         # Springs stretch as their stiffness says, whatever the step: there the tolerance is
         # reported, and substeps are the guard's business alone.
-        self.control = SubstepController(b.error_tolerance, b.substeps, b.max_substeps,
+        self.control = SubstepController(self._error_tolerance(), b.substeps, b.max_substeps,
                                          adaptive=b.adaptive and b.solver != "springs",
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
@@ -132,6 +133,13 @@ class Simulation:
         self._sources = has_energy_source(scene)
         self._find_nearest_pins()
         self._build_step()
+
+    def _error_tolerance(self) -> float:
+        """behavior.error_tolerance, or tighter where the sheet tears by strength: tight
+        enough to know the tension to a tenth of the strength (tearing.strength_tolerance)."""
+        tol = self.scene.behavior.error_tolerance
+        strength = tear_strength(self.scene.behavior, self.model)
+        return tol if strength is None else min(tol, strength_tolerance(self.model, strength))
 
     def _build_step(self) -> None:
         self.step = pipeline.build(self.scene, self.model,
@@ -438,6 +446,13 @@ class Simulation:
                            self._alpha_tilde_now())
 
     def _energy(self) -> float:
+        solver = self.step.solver
+        if isinstance(solver, PositionBasedSolver) and isinstance(solver.projection,
+                                                                  ProjectFabric):
+            # a material stores energy in its shear cells and bending stencils too
+            m, st = self.model, self.state
+            return (kinetic_energy(m, st) + gravitational_energy(m, st, self.scene)
+                    + fabric_force_energy(solver.projection, self.step.h))
         return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h,
                       self._alpha_tilde_now())
 
@@ -477,9 +492,10 @@ class Simulation:
             "max_stretch": max_s,
             "mean_stretch": mean_s,
             "solver": self.scene.behavior.solver,
+            "material": None if self.scene.material is None else self.scene.material.name,
             "error": error,                                 # solve error, share of L0
             # springs have no constraint solve to be off its equilibrium: nothing to bound
-            "error_tolerance": None if error is None else self.scene.behavior.error_tolerance,
+            "error_tolerance": None if error is None else self.control.tolerance,
             "energy_tolerance": self.control.energy_tolerance,
             "energy": self._energy(),
             "penetration": self.penetration,

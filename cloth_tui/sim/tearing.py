@@ -1,17 +1,33 @@
-"""Tearing: constraints that break, by overstretch or by a cut, and leave the solve for good.
+"""Tearing: constraints that break, by their load or by a cut, and leave the solve for good.
 
 The model's constraints do not change; the state keeps which are intact (`state.alive`, 1 or
-0 per constraint in model.edges order) and how many are broken (`state.torn`). Every solver
-skips a broken constraint (xpbd.py, springs.py, implicit.py), the measures leave it out
-(measures.py), and the renderer drops the triangles that lost an edge (`intact_triangles`).
+0 per constraint in model.edges order) and how many are broken (`state.torn`, counted by
+`_record_breaks` alone). Every solver skips a broken constraint (xpbd.py, springs.py,
+implicit.py), the measures leave it out (measures.py), a material's shear cells and bending
+stencils across a broken edge leave with it (fabric_solve.py), and the renderer drops the
+triangles that lost an edge (`intact_triangles`).
 
 Break criterion, checked once per substep after the constraint solve, in tension only:
 
-    L/L0 − 1 > tear_stretch   →   alive = 0
+- by strength (`TearByStrength`: a scene's [material] with tear_strength, xpbd): a
+  structural edge breaks when the tension per unit width it carries exceeds tear_strength,
 
-(compared squared, L² > ((1 + tear_stretch) L0)², with no square root). Compression breaks
-nothing: a fold squeezes a bending constraint to nearly zero length, and cloth does not tear
-where it folds.
+      −λ/h² / w  >  tear_strength   →   alive = 0
+
+  with λ the edge's multiplier of the substep (tension makes it negative: xpbd.py) and w the
+  strip of sheet the edge stands for (material.strip_width). λ/h² is the force the
+  constraint exerted in the substep, not its stretch read through the stiffness: a solve
+  left short of convergence (few substeps, few passes) stretches the sheet further than the
+  material would, but what it pushes with still balances the load, so the same load breaks
+  the same edges at any substep count;
+- by stretch (`TearConstraints`: without a material, or a material without tear_strength):
+
+      L/L0 − 1 > tear_stretch   →   alive = 0
+
+  (compared squared, L² > ((1 + tear_stretch) L0)², with no square root).
+
+Compression breaks nothing: a fold squeezes a constraint to nearly zero length, and cloth
+does not tear where it folds.
 
 A cut (the app's right-drag) breaks every constraint whose segment, in the sheet's material
 coordinates (row i, column j), crosses the cut's segment. Nothing is ever mended within a run:
@@ -25,8 +41,14 @@ import math
 import numpy as np
 
 from .jit import kernel
+from .material import Grid, strip_width
 from .model import ClothModel
 from .state import ClothState
+
+# Tearing by strength asks the solve for the fabric's tension to this share of tear_strength:
+# the force estimates λ/h² and k·(L − L0) differ by the stretch modulus × the solve error
+# (module docstring), so the error is bounded by this share of the breaking strain.
+TEAR_FORCE_SHARE = 0.1
 
 # A cut runs through the picked particles, nudged off the grid's lines by this (in spacings)
 # so that it never passes exactly through a particle, where it would cut ambiguously.
@@ -48,6 +70,20 @@ def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         if dx * dx + dy * dy + dz * dz > limit * rest[e] * rest[e]:
+            alive[e] = 0
+            broken += 1
+    return broken
+
+
+@kernel()
+def break_overloaded_constraints(lambdas, breaking_force, alive, h2) -> int:
+    """alive[e] = 0 for every intact constraint whose tension −λ/h² exceeds
+    breaking_force[e] (N); returns how many broke. λ < 0 in tension (xpbd.py's C = |x_b −
+    x_a| − L0 projected as Δλ = (−C − α̃λ)/…); a NaN λ breaks nothing (the runner's guard
+    sees the NaN state)."""
+    broken = 0
+    for e in range(lambdas.shape[0]):
+        if alive[e] and -lambdas[e] > breaking_force[e] * h2:
             alive[e] = 0
             broken += 1
     return broken
@@ -79,6 +115,29 @@ def cut_constraints(edges, nx, alive, i0, j0, i1, j1) -> int:
     return cut
 
 
+def tear_strength(behavior, model: ClothModel) -> float | None:
+    """N/m: the strength the sheet tears at, where it tears by strength (behavior.tear and
+    a material with tear_strength); None where it tears by stretch or not at all."""
+    fabric = model.fabric
+    if not behavior.tear or fabric is None or not model.num_constraints:
+        return None
+    return fabric.material.tear_strength
+
+
+def strength_tolerance(model: ClothModel, strength: float) -> float:
+    """The solve error (share of rest length) that knows every edge's tension to within
+    TEAR_FORCE_SHARE of `strength`: that share of the breaking strain of the stiffer
+    direction."""
+    m = model.fabric.material
+    return TEAR_FORCE_SHARE * strength / max(m.stretch_warp, m.stretch_weft)
+
+
+def _record_breaks(state: ClothState, count: int) -> int:
+    """The one place the torn count grows: every break, by load or by a cut, comes here."""
+    state.torn += count
+    return count
+
+
 def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
     """Cut the sheet along the material path from particle p0 to particle p1; returns the
     constraints cut. The same particle twice cuts nothing."""
@@ -92,11 +151,9 @@ def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
     # border particle reaches the border.
     ext = 0.5 / length
     oi, oj = CUT_OFFSET
-    count = int(cut_constraints(model.edges, nx, state.alive,
-                                i0 + oi - ext * di, j0 + oj - ext * dj,
-                                i1 + oi + ext * di, j1 + oj + ext * dj))
-    state.torn += count
-    return count
+    return _record_breaks(state, int(cut_constraints(model.edges, nx, state.alive,
+                                                     i0 + oi - ext * di, j0 + oj - ext * dj,
+                                                     i1 + oi + ext * di, j1 + oj + ext * dj)))
 
 
 def triangle_constraints(model: ClothModel) -> np.ndarray:
@@ -131,7 +188,7 @@ def intact_triangles(model: ClothModel, alive: np.ndarray,
 
 
 class TearConstraints:
-    """The tearing stage: after the constraint solve, constraints stretched beyond
+    """The tearing stage by stretch: after the constraint solve, constraints stretched beyond
     behavior.tear_stretch break (see the module's docstring)."""
 
     name = "tear_constraints"
@@ -142,5 +199,26 @@ class TearConstraints:
 
     def apply(self, state: ClothState, h: float) -> None:
         m = self.model
-        state.torn += int(break_overstretched_constraints(state.x, m.edges, m.rest_length,
-                                                          state.alive, self.tear_stretch))
+        _record_breaks(state, int(break_overstretched_constraints(
+            state.x, m.edges, m.rest_length, state.alive, self.tear_stretch)))
+
+
+class TearByStrength:
+    """The tearing stage by strength: after the constraint solve, structural edges whose
+    tension per unit width exceeds the material's tear_strength break (module docstring).
+    `lambdas` is the projection's live array of the substep's multipliers (model.edges
+    order), read after every solve."""
+
+    name = "tear_by_strength"
+
+    def __init__(self, model: ClothModel, lambdas: np.ndarray, tear_strength: float):
+        self.model = model
+        self.lambdas = lambdas
+        self.tear_strength = float(tear_strength)
+        width = strip_width(Grid.of_model(model), model.edges)
+        # N: the force along each edge at which it breaks
+        self.breaking_force = np.ascontiguousarray(self.tear_strength * width)
+
+    def apply(self, state: ClothState, h: float) -> None:
+        _record_breaks(state, int(break_overloaded_constraints(
+            self.lambdas, self.breaking_force, state.alive, h * h)))
