@@ -31,6 +31,7 @@ import numpy as np
 
 from ..scene import SceneObject
 from .jit import kernel
+from .params import StepParams
 from .protocols import Collider, ObjectPose
 from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere
 from .shapes.base import KernelInputs
@@ -157,8 +158,8 @@ class ShapeCollider:
     its kernel inputs come from its shape, the contact, friction and motion are the same
     for all."""
 
-    def __init__(self, model, shape: Shape, inputs: KernelInputs, center, *, friction: float,
-                 thickness: float, moving: bool = False):
+    def __init__(self, model, shape: Shape, inputs: KernelInputs, center, *,
+                 friction: float | StepParams, thickness: float, moving: bool = False):
         if shape.code not in DISPATCHED:
             raise ValueError(f"the {shape.name} shape has no branch in shape_distance")
         self.name = f"collide_{shape.name}"
@@ -169,12 +170,19 @@ class ShapeCollider:
         self.center0 = np.asarray(center, dtype=np.float64)
         self.center = self.center0.copy()
         self.params = np.array([*self.center0, *inputs.packed], dtype=np.float64)
-        self.friction, self.thickness = float(friction), float(thickness)
+        # the object's own μs, or the scene's as the step's parameters hold it now
+        self._friction = friction if isinstance(friction, StepParams) else float(friction)
+        self.thickness = float(thickness)
         self.side = np.ones(model.num_particles)  # a sided shape: each particle's side
         self._sides_known = not shape.sided
         # this substep's contacts: how far the object pushed each particle, and along what
         self.depth = np.zeros(model.num_particles)
         self.normal_at = np.zeros((model.num_particles, 3))
+
+    @property
+    def friction(self) -> float:
+        f = self._friction
+        return f.friction if isinstance(f, StepParams) else f
 
     def center_at(self, t: float) -> np.ndarray:
         return self.center0 + orbit_offset(t) if self.moving else self.center0
@@ -231,7 +239,7 @@ class Floor(ShapeCollider):
     """The original's floor: the half-space below y = height, one-sided (anything below is
     pushed up). The renderer draws it from the scene, so it has no pose."""
 
-    def __init__(self, model, height: float, friction: float, thickness: float):
+    def __init__(self, model, height: float, friction: float | StepParams, thickness: float):
         parameters = {"normal": (0.0, 1.0, 0.0)}
         inputs = plane.SHAPE.inputs_of(parameters)
         super().__init__(model, plane.SHAPE, inputs, (0.0, height, 0.0), friction=friction,
@@ -243,10 +251,11 @@ class Floor(ShapeCollider):
         return None
 
 
-def object_collider(model, obj, *, friction: float, thickness: float,
+def object_collider(model, obj, *, friction: float | StepParams, thickness: float,
                     where: str = "object") -> ShapeCollider:
     """The collider of one validated SceneObject (`where` names it in messages); its
-    `friction` is the object's own or the scene's."""
+    `friction` is the object's own, or the step's parameters (the scene's, read as it
+    changes)."""
     shape = shape_of(obj.type)
     return ShapeCollider(model, shape, shape.kernel_inputs(obj, model.spacing, thickness, where),
                          obj.center, friction=friction, thickness=thickness,
@@ -309,16 +318,19 @@ def scene_objects(scene) -> list[tuple[str, object]]:
     return out
 
 
-def build_colliders(scene, model) -> list[Collider]:
-    """Collider effects the scene enables: the floor, then each object of scene_objects."""
+def build_colliders(scene, model, params: StepParams | None = None) -> list[Collider]:
+    """Collider effects the scene enables: the floor, then each object of scene_objects.
+    Those without a friction of their own read the scene's from `params` (the scene's own
+    value when none are given)."""
     s = scene.scene
+    shared: float | StepParams = s.friction if params is None else params
     out = []
     if s.floor:
-        out.append(Floor(model, s.floor_height, s.friction, s.thickness))
+        out.append(Floor(model, s.floor_height, shared, s.thickness))
     objects = scene_objects(scene)
     for shape in SHAPES.values():
         shape.check_scene([(where, o) for where, o in objects if o.type == shape.name])
     out += [object_collider(model, o, where=where, thickness=s.thickness,
-                            friction=s.friction if o.friction < 0 else o.friction)
+                            friction=shared if o.friction < 0 else o.friction)
             for where, o in objects]
     return out

@@ -11,7 +11,7 @@ projects the cells and stencils; docs/physics.md ("Materials in SI units") deriv
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -69,6 +69,20 @@ def build_fabric(material: Material, grid: Grid, edges: np.ndarray, shear: bool,
                   cell_compliance=cell_shear_compliance(material, grid), stencils=stencils,
                   stencil_compliance=stencil_alpha, cell_edges=cell_edges,
                   stencil_edges=stencil_edges)
+
+
+def refit_fabric(fabric: Fabric, material: Material, edges: np.ndarray) -> Fabric:
+    """`fabric`'s constraints (on the model's `edges`) with `material`'s numbers: a material
+    that leaves the constraints as they are (bending rigidity still above zero, or still
+    none), whose α per constraint are made anew."""
+    compliance = pair_compliance(material, fabric.grid, edges, shear="cells")
+    stencil_alpha = (bending_compliance(fabric.stencils, material.bending)
+                     if fabric.stencils is not None else fabric.stencil_compliance)
+    for arr in (compliance, stencil_alpha):
+        arr.setflags(write=False)
+    return replace(fabric, material=material, compliance=compliance,
+                   cell_compliance=cell_shear_compliance(material, fabric.grid),
+                   stencil_compliance=stencil_alpha)
 
 
 def _edge_lookup(edges: np.ndarray, particles: int):

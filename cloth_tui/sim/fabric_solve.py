@@ -150,6 +150,15 @@ class ProjectFabric:
         self._scale = 1.0 / (4.0 * f.grid.dx * f.grid.dz)
         self._masks_torn = 0  # state.torn when the masks were last made
 
+    def retune(self, fabric, h: float) -> None:
+        """Run on with `fabric`'s numbers (fabric.refit_fabric: the same constraints) and the
+        model's masses as they are now."""
+        self.fabric = fabric
+        self.edges.set_compliance(fabric.compliance, h)
+        self.edges.refresh_masses()
+        self.cell_alpha_t = fabric.cell_compliance / (h * h)
+        self.stencil_alpha_t = np.ascontiguousarray(fabric.stencil_compliance / (h * h))
+
     @property
     def lambdas(self) -> np.ndarray:
         return self.edges.lambdas

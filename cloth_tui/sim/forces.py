@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from .jit import kernel
+from .params import StepParams
 
 AIR_DENSITY = 1.2            # kg/m³, air at sea level and 20 °C
 DRAG_COEFFICIENT = 1.2       # flat plate facing the flow (pressure drag; Hoerner ≈ 1.17–1.28)
@@ -129,12 +130,12 @@ class Gravity:
     name = "gravity"
     kinematic = False
 
-    def __init__(self, model, strength: float):
+    def __init__(self, model, params: StepParams):
         self.inv_mass = model.inv_mass
-        self.g = strength
+        self.params = params
 
     def accumulate(self, x, v, t, out_accel):
-        add_uniform_acceleration(out_accel, self.inv_mass, 0.0, -self.g, 0.0)
+        add_uniform_acceleration(out_accel, self.inv_mass, 0.0, -self.params.gravity, 0.0)
 
     def apply(self, state, h):
         self.accumulate(state.x, state.v, state.t, state.accel)
@@ -151,15 +152,14 @@ class Wind:
     name = "wind"
     kinematic = False
 
-    def __init__(self, model, strength: float, direction, mode: str):
-        d = np.asarray(direction, dtype=np.float64)
-        self.direction = d / np.linalg.norm(d)
-        self.strength, self.mode = strength, mode
+    def __init__(self, model, params: StepParams):
+        self.params = params
         self.inv_mass, self.triangles = model.inv_mass, model.triangles
         self.k = 0.5 * AIR_DENSITY * DRAG_COEFFICIENT
 
     def air_velocity(self, t: float) -> np.ndarray:
-        return wind_speed(self.strength, self.mode, t) * self.direction
+        p = self.params
+        return wind_speed(p.wind_speed, p.wind_mode, t) * np.asarray(p.wind_direction)
 
     def accumulate(self, x, v, t, out_accel):
         w = self.air_velocity(t)
@@ -178,14 +178,18 @@ class CustomField:
     """One of the custom fields; `strength` in m/s², `rate` in Hz (see docs/physics.md)."""
     kinematic = False
 
-    def __init__(self, model, kind: str, strength: float, rate: float):
+    def __init__(self, model, kind: str, params: StepParams):
         self.name = kind
-        self.kind, self.s, self.rate = kind, strength, rate
+        self.kind, self.params = kind, params
         self.inv_mass = model.inv_mass
+
+    @property
+    def rate(self) -> float:
+        return self.params.custom_rate
 
     def accumulate(self, x, v, t, out_accel):
         cx, cy, cz = FIELD_CENTER
-        s, k = self.s, self.kind
+        s, k = self.params.custom_strength, self.kind
         if k == "black_hole":
             apply_black_hole(x, out_accel, self.inv_mass, cx, cy, cz,
                              s * pulse(self.rate, t) * REFERENCE_RADIUS ** 2, SOFTENING ** 2)
@@ -238,16 +242,17 @@ class Wave:
         state.anchors[self.slots, 1] = self.rest_y + self.height(state.t + h)
 
 
-def build_forces(scene, model) -> list:
-    """Force effects the scene enables, in order: gravity, wind, custom field, wave."""
+def build_forces(scene, model, params: StepParams) -> list:
+    """Force effects the scene enables, in order: gravity, wind, custom field, wave. They
+    read their strengths from `params` (params.py) each time they act."""
     f, b = scene.forces, scene.behavior
     out = []
     if f.gravity and f.gravity_strength > 0:
-        out.append(Gravity(model, f.gravity_strength))
+        out.append(Gravity(model, params))
     if f.wind and f.wind_strength > 0:
-        out.append(Wind(model, f.wind_strength, f.wind_direction, f.wind_mode))
+        out.append(Wind(model, params))
     if f.custom != "none" and f.custom_strength > 0:
-        out.append(CustomField(model, f.custom, f.custom_strength, f.custom_rate))
+        out.append(CustomField(model, f.custom, params))
     if b.wave and len(model.pinned):
         out.append(Wave(model, b.wave_amplitude, b.wave_frequency))
     return out

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .jit import kernel
+from .params import StepParams
 
 RAIN_RADIUS = 1.5  # grid spacings: e-folding distance of the falloff
 RAIN_REACH = 3     # grid spacings: farthest neighbour a drop moves (w(3) ≈ 2 %)
@@ -39,28 +40,29 @@ def apply_raindrop(x, v, inv_mass, nx, nz, particle, depth, inv_dt, inv_r2, reac
 class Rain:
     name = "rain"
 
-    def __init__(self, model, strength: float, rate: float, seed: int):
+    def __init__(self, model, params: StepParams, seed: int):
         self.nx, self.nz, self.inv_mass = model.nx, model.nz, model.inv_mass
-        self.strength, self.rate, self.seed = strength, rate, seed
+        self.params, self.seed = params, seed
         self.drops = 0  # struck so far (for tests and stats)
 
     def strikes(self, t: float, frame_dt: float) -> np.ndarray:
         """Indices of the particles struck in the frame starting at time t."""
         frame = int(round(t / frame_dt))
         rng = np.random.default_rng([self.seed, frame])
-        k = rng.poisson(self.rate * frame_dt)
+        k = rng.poisson(self.params.rain_rate * frame_dt)
         return rng.integers(0, self.nx * self.nz, size=k)
 
     def apply(self, state, frame_dt):
         struck = self.strikes(state.t, frame_dt)
         for p in struck:
             apply_raindrop(state.x, state.v, self.inv_mass, self.nx, self.nz, int(p),
-                           self.strength, 1.0 / frame_dt, 1.0 / RAIN_RADIUS ** 2, RAIN_REACH)
+                           self.params.rain_strength, 1.0 / frame_dt, 1.0 / RAIN_RADIUS ** 2,
+                           RAIN_REACH)
         self.drops += len(struck)
 
 
-def build_impulses(scene, model) -> list:
+def build_impulses(scene, model, params: StepParams) -> list:
     f = scene.forces
     if f.rain and f.rain_strength > 0 and f.rain_rate > 0:
-        return [Rain(model, f.rain_strength, f.rain_rate, scene.behavior.seed)]
+        return [Rain(model, params, scene.behavior.seed)]
     return []

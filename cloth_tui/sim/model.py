@@ -8,11 +8,11 @@ x growing with j (width along x) and z with i (length along z).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .fabric import Fabric, build_fabric, fabric_masses
+from .fabric import Fabric, build_fabric, fabric_masses, refit_fabric
 from .forces import wave_rows
 from .grid_sweeps import grid_colors
 from .material import Grid
@@ -241,3 +241,21 @@ def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
                       family=family, color_offsets=offsets, triangles=grid_triangles(nx, nz),
                       tether_pin=tether_pin, tether_length=tether_length,
                       pin_layout=pin_layout, fabric=fabric)
+
+
+def refitted(model: ClothModel, cloth, material=None) -> ClothModel:
+    """The same sheet with new numbers: the masses of cloth.mass (or of the material's
+    density) and the material's α per constraint, for a scene that changed only those
+    (params.same_structure). Every stage holds the model's mass arrays, so the new masses
+    are written into them (held particles keep inverse mass 0); the fabric is a new one on
+    the same constraints."""
+    fabric = None if model.fabric is None else refit_fabric(model.fabric, material, model.edges)
+    mass = (particle_masses(model.nx, model.nz, cloth.mass, cloth.mass_model) if fabric is None
+            else fabric_masses(material, fabric.grid))
+    inv_mass = 1.0 / mass
+    inv_mass[model.pinned] = 0.0
+    for arr, new in ((model.mass, mass), (model.inv_mass, inv_mass)):
+        arr.setflags(write=True)
+        arr[:] = new
+        arr.setflags(write=False)
+    return model if fabric is None else replace(model, fabric=fabric)

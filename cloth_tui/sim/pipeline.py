@@ -13,7 +13,9 @@ The order of a substep's stages lives here and only here (`assemble`):
     apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
     solver.velocities()
 A scene without wind has no wind effect, so it runs no wind code. Effects, force effects,
-colliders and solvers are the Protocols of protocols.py.
+colliders and solvers are the Protocols of protocols.py. The stages read their numbers
+(strengths, friction, damping, α) from the step's `params` (params.py): changing those is
+`Step.retune`, not a new step.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from ..scene import Scene
 from . import (colliders, forces, impulses, selfcollision, solvers, springs,
                tearing)
 from .model import ClothModel
+from .params import StepParams
 from .pins import pin_effects
 from .protocols import Collider, Effect, ForceEffect, Solver
 from .stages import ApplyPins, EnforceTethers
@@ -40,6 +43,16 @@ class Step:
     colliders: list[Collider] = field(default_factory=list)
     frame_effects: list[Effect] = field(default_factory=list)  # once per frame, first
     solver: Solver | None = None    # None when integration is off
+    params: StepParams = field(default_factory=StepParams)  # what the stages read
+
+    def retune(self, scene: Scene, model: ClothModel) -> None:
+        """Run on with `scene`'s parameters, a scene of this step's structure
+        (params.same_structure), and `model`, this step's model refitted to it
+        (model.refitted): the next substep reads them."""
+        self.params.assign(scene)
+        self.model = model
+        if self.solver is not None:
+            self.solver.retune(self.params, model)
 
     @property
     def names(self) -> list[str]:
@@ -64,12 +77,12 @@ class Step:
         return max((c.penetration(x) for c in self.colliders), default=0.0)
 
 
-def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[ForceEffect]
-                ) -> Solver:
+def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[ForceEffect],
+                params: StepParams) -> Solver:
     b = scene.behavior
     if b.solver == "springs":
-        return springs.SpringSolver(model, b, force_effects)
-    return solvers.PositionBasedSolver(model, b, force_effects, h)
+        return springs.SpringSolver(model, b, force_effects, params)
+    return solvers.PositionBasedSolver(model, b, force_effects, h, params)
 
 
 def tear_stage(scene: Scene, model: ClothModel, solver: Solver) -> Effect:
@@ -113,12 +126,14 @@ def build(scene: Scene, model: ClothModel, substeps: int | None = None) -> Step:
     b = scene.behavior
     n_sub = substeps or b.substeps
     h = 1.0 / (b.frame_rate * n_sub)
+    params = StepParams.of(scene)
     if not scene.forces.integrate:
-        return Step(model, [], n_sub, h)
-    solver = make_solver(scene, model, h, forces.build_forces(scene, model))
-    collider_effects = colliders.build_colliders(scene, model)
+        return Step(model, [], n_sub, h, params=params)
+    solver = make_solver(scene, model, h, forces.build_forces(scene, model, params), params)
+    collider_effects = colliders.build_colliders(scene, model, params)
     contact_effects = collider_effects + selfcollision.build_self_collision(scene, model)
     tear = tear_stage(scene, model, solver) if b.tear and model.num_constraints else None
     effects = assemble(solver, model, collider_effects, contact_effects, tear)
     return Step(model, effects, n_sub, h, colliders=collider_effects,
-                frame_effects=impulses.build_impulses(scene, model), solver=solver)
+                frame_effects=impulses.build_impulses(scene, model, params), solver=solver,
+                params=params)

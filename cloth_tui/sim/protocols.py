@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 if TYPE_CHECKING:
+    from .params import StepParams
     from .state import ClothState
 
 
@@ -75,3 +76,8 @@ class Solver(Protocol):
 
     def velocities(self) -> Effect:
         ...
+
+    def retune(self, params: StepParams, model) -> None:
+        """Remake what the solver derived from the step's parameters (params.py) and the
+        model's numbers (masses, a fabric's α: model.refitted) when they change; what its
+        stages read directly, they read as they run."""

@@ -18,7 +18,8 @@ from .measures import (all_finite, elastic_energy, energy, free_energy,
                        gravitational_energy, kinetic_energy, per_constraint, potential_floor,
                        solve_error, stretch)
 from .held_contacts import check_held_particles
-from .model import ClothModel, build_model, nearest_pins, uses_tethers
+from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
+from .params import same_structure
 from .pins import with_user_pin
 from .state import ClothState
 from .substep_control import SubstepController
@@ -159,6 +160,9 @@ class Simulation:
     def set_scene(self, scene: Scene) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
         rebuilt (and so restarted)."""
+        if same_structure(scene, self.scene):
+            self._retune(scene)
+            return False
         changed = {(s, f.name) for s in ("cloth", "behavior")
                    for f in dataclasses.fields(getattr(scene, s))
                    if getattr(getattr(scene, s), f.name) != getattr(getattr(self.scene, s), f.name)}
@@ -168,6 +172,19 @@ class Simulation:
             != uses_tethers(self.scene.behavior, _material(self.scene))
         self._rebuild(scene, model=rebuild_model)
         return rebuild_model
+
+    def _retune(self, scene: Scene) -> None:
+        """New values of the step's parameters alone (params.py): the sheet, the step (its
+        sweep plan, its kernels' thread choice), the substep controller and the guard's
+        level run on, and the next substep reads the values. A halt was the old values'
+        verdict, so stepping resumes; if it diverges again, the guard halts it again."""
+        if scene.cloth != self.scene.cloth or scene.material != self.scene.material:
+            self.model = refitted(self.model, scene.cloth, _material(scene))
+        self.scene = scene
+        self.step.retune(scene, self.model)
+        self._alpha_tilde = None  # α̃ may have changed
+        self._frame_energy = None  # the energy's terms did (gravity): no damping across it
+        self.halted = None
 
     def reset(self) -> None:
         """Start the run again: a new sheet, and every counter and halt cleared."""

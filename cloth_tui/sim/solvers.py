@@ -20,6 +20,7 @@ import numpy as np
 from .fabric_solve import ProjectFabric
 from .jit import kernel
 from .material import damping_factor as decay_factor
+from .params import StepParams
 from .protocols import Effect, ForceEffect
 from .stages import damping_factor
 from .xpbd import ProjectConstraints
@@ -80,27 +81,33 @@ def update_velocities(x, x_prev, v, inv_mass, inv_h, max_speed):
 class IntegrateVerlet:
     name = "integrate_verlet"
 
-    def __init__(self, model, damping: float, h: float, max_speed: float,
-                 keep: float | None = None):
+    def __init__(self, model, params: StepParams):
         self.inv_mass = model.inv_mass
-        self.keep = damping_factor(damping, h) if keep is None else keep
-        self.max_speed = max_speed
+        self.params = params
+
+    def keep(self, h: float) -> float:
+        """Velocity kept over a substep of h: behavior.damping's share per 18 ms, or the
+        material's decay rate."""
+        p = self.params
+        if p.material is not None:
+            return decay_factor(p.material.damping, h)
+        return damping_factor(p.damping, h)
 
     def apply(self, state, h):
         integrate_verlet(state.x, state.x_prev, state.v, state.accel, self.inv_mass, h,
-                         self.keep, self.max_speed)
+                         self.keep(h), self.params.max_speed)
 
 
 class UpdateVelocities:
     name = "update_velocities"
 
-    def __init__(self, model, max_speed: float):
+    def __init__(self, model, params: StepParams):
         self.inv_mass = model.inv_mass
-        self.max_speed = max_speed
+        self.params = params
 
     def apply(self, state, h):
         update_velocities(state.x, state.x_prev, state.v, self.inv_mass, 1.0 / h,
-                          self.max_speed)
+                          self.params.max_speed)
 
 
 class PositionBasedSolver:
@@ -108,27 +115,42 @@ class PositionBasedSolver:
     (compliance α > 0: a material of stiffness 1/α). The force effects run as stages before
     the verlet prediction, adding to state.accel. With a material (model.fabric, xpbd only)
     the constraints are the fabric's, each with its own α (fabric_solve.ProjectFabric), and
-    the damping is its decay rate, exp(−damping·h) per substep."""
+    the damping is its decay rate, exp(−damping·h) per substep. Damping and the speed limit
+    are read from `params` each substep; the projection's numbers (iterations, α̃, which its
+    sweeps keep per slot) are given to it again by `retune` when the params change."""
 
-    def __init__(self, model, behavior, forces: list[ForceEffect], h: float):
+    def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
+                 params: StepParams):
         b = behavior
         self.name = b.solver
-        xpbd = b.solver == "xpbd"
+        self._xpbd = b.solver == "xpbd"
+        self._h = h
         fabric = model.fabric
         self._integrate: list[Effect] = list(forces)
-        keep = None if fabric is None else decay_factor(fabric.material.damping, h)
-        self._integrate.append(IntegrateVerlet(model, b.damping, h, b.max_speed, keep))
+        self._integrate.append(IntegrateVerlet(model, params))
         if fabric is not None:
-            if not xpbd:
+            if not self._xpbd:
                 raise ValueError("a material's constraints are xpbd's (scene.validate says so)")
-            self.projection = ProjectFabric(model, b.iterations, h)
+            self.projection = ProjectFabric(model, params.iterations, h)
             self._constraints: list[Effect] = [self.projection]
         else:
             self.projection = ProjectConstraints(
-                model, b.iterations, b.compliance if xpbd else 0.0, h,
-                name="project_xpbd_constraints" if xpbd else "project_constraints")
+                model, params.iterations, params.compliance if self._xpbd else 0.0, h,
+                name="project_xpbd_constraints" if self._xpbd else "project_constraints")
             self._constraints = [self.projection] if model.num_constraints else []
-        self._velocities = UpdateVelocities(model, b.max_speed)
+        self._velocities = UpdateVelocities(model, params)
+
+    def retune(self, params: StepParams, model) -> None:
+        """Take the projection's numbers from `params` and `model` (its masses and its
+        fabric's α, model.refitted), between frames."""
+        projection = self.projection
+        projection.iterations = params.iterations
+        if isinstance(projection, ProjectFabric):
+            projection.retune(model.fabric, self._h)
+            return
+        if self._xpbd:
+            projection.set_compliance(params.compliance, self._h)
+        projection.refresh_masses()
 
     @property
     def lambdas(self) -> np.ndarray:

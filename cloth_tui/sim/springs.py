@@ -48,6 +48,7 @@ import numpy as np
 from ..scene import ORIGINAL_TIMESTEP, integrator_for
 from .implicit import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
 from .jit import kernel
+from .params import StepParams
 from .protocols import Effect, ForceEffect
 
 ORDERS = {"explicit_euler": 1, "symplectic_euler": 1, "verlet": 2, "midpoint": 2, "rk4": 4,
@@ -143,15 +144,13 @@ class IntegrateSprings:
     (integrate_rk4, integrate_implicit_euler, ...). Sets x_prev to the start positions and
     leaves the integrator's end positions in `x_pred` for `correct_velocities`."""
 
-    def __init__(self, model, behavior, force_effects: list[ForceEffect]):
+    def __init__(self, model, behavior, force_effects: list[ForceEffect], params: StepParams):
         self.integrator = integrator_for(behavior)  # `auto` resolved for springs
         if self.integrator not in ORDERS:
             raise ValueError(f"unknown integrator {self.integrator!r}")
         self.name = f"integrate_{self.integrator}"
         self.model = model
-        self.k = float(behavior.stiffness)
-        self.kd = float(behavior.spring_damping)
-        self.drag = drag_rate(behavior.damping)
+        self.params = params
         self.forces = [f.accumulate for f in force_effects if not f.kinematic]
         # Kinematic drives (the wave moves pin anchors) run once per substep, as with pbd.
         self.kinematic = [f for f in force_effects if f.kinematic]
@@ -173,6 +172,18 @@ class IntegrateSprings:
             self._tension = np.zeros(m)
             self.dv = z()  # Δv of the last substep: the next solve's warm start
             self._cg = [z() for _ in range(4)]
+
+    @property
+    def k(self) -> float:
+        return float(self.params.stiffness)
+
+    @property
+    def kd(self) -> float:
+        return float(self.params.spring_damping)
+
+    @property
+    def drag(self) -> float:
+        return drag_rate(self.params.damping)
 
     def accel(self, x, v, t, out):
         """out = a(x, v, t): external forces, springs, drag; zero on pinned particles."""
@@ -259,25 +270,28 @@ class IntegrateSprings:
 class CorrectVelocities:
     name = "correct_velocities"
 
-    def __init__(self, model, integrate: IntegrateSprings, max_speed: float):
+    def __init__(self, model, integrate: IntegrateSprings, params: StepParams):
         self.inv_mass = model.inv_mass
         self.integrate = integrate
-        self.max_speed = max_speed
+        self.params = params
 
     def apply(self, state, h):
         finish_velocities(state.x, state.x_prev, self.integrate.x_pred, state.v, self.inv_mass,
-                          1.0 / h, self.max_speed)
+                          1.0 / h, self.params.max_speed)
 
 
 class SpringSolver:
     """Force-based: the integrator evaluates springs and force effects itself; there is no
     constraint stage; velocities are the integrator's except where a contact or pin moved a
-    particle."""
+    particle. Stiffness, damping and the speed limit are read from `params` each substep."""
 
-    def __init__(self, model, behavior, forces: list[ForceEffect]):
+    def __init__(self, model, behavior, forces: list[ForceEffect], params: StepParams):
         self.name = "springs"
-        self.integrator = IntegrateSprings(model, behavior, forces)
-        self._velocities = CorrectVelocities(model, self.integrator, behavior.max_speed)
+        self.integrator = IntegrateSprings(model, behavior, forces, params)
+        self._velocities = CorrectVelocities(model, self.integrator, params)
+
+    def retune(self, params: StepParams, model) -> None:
+        """Nothing to remake: every number, and the model's masses, are read as they run."""
 
     def integrate(self) -> list[Effect]:
         return [self.integrator]

@@ -108,19 +108,28 @@ class ProjectConstraints:
         self.name = name
         self.model = model
         self.iterations = iterations
-        per_edge = np.ndim(compliance) > 0
-        self.alpha_t = np.asarray(compliance, dtype=np.float64) / (h * h) if per_edge \
-            else compliance / (h * h)
         self.lambdas = np.zeros(model.num_constraints)
         self._plan = plan_sweeps(model.nx, model.nz, model.edges, model.color_offsets,
                                  model.rest_length, model.inv_mass)
         self._scratch = self._plan.scratch()
-        self._alpha_slots = slot_alphas(self._plan, self.alpha_t) if per_edge \
-            else NO_SLOT_ALPHAS
+        self.set_compliance(compliance, h)
         per_color = model.num_constraints / max(1, len(model.color_offsets) - 1)
         self.kernels = KernelChoice(
             sweep_grid_colors,
             sweep_grid_colors_parallel if per_color >= PARALLEL_MIN_PER_COLOR else None)
+
+    def set_compliance(self, compliance, h: float) -> None:
+        """α (m/N) for every constraint alike, or an array of one per constraint, at
+        substeps of h; the sweep plan and the kernel choice stay."""
+        per_edge = np.ndim(compliance) > 0
+        self.alpha_t = np.asarray(compliance, dtype=np.float64) / (h * h) if per_edge \
+            else compliance / (h * h)
+        self._alpha_slots = slot_alphas(self._plan, self.alpha_t) if per_edge \
+            else NO_SLOT_ALPHAS
+
+    def refresh_masses(self) -> None:
+        """Take the model's inverse masses again (written in place: model.refitted)."""
+        self._plan.inv_mass[self._plan.grid_offset] = self.model.inv_mass
 
     @property
     def kernel_name(self) -> str:

@@ -8,6 +8,7 @@ import pytest
 from cloth_tui.scene import Scene
 from cloth_tui.sim import forces
 from cloth_tui.sim.model import build_model
+from cloth_tui.sim.params import StepParams
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from .helpers import run, scene
@@ -34,7 +35,7 @@ def test_wind_on_a_flat_sheet_is_drag_times_area_along_the_normal():
     # A 1 m² horizontal sheet in an updraft of 5 m/s: F = ½ρC·A·v² upward.
     s, m, st = model_and_state(cloth__resolution=9, cloth__pinned="none",
                                forces__wind_direction=[0.0, 1.0, 0.0])
-    wind = forces.Wind(m, 5.0, [0.0, 1.0, 0.0], "constant")
+    wind = forces.Wind(m, StepParams(wind_speed=5.0, wind_direction=[0.0, 1.0, 0.0]))
     out = np.zeros_like(st.x)
     wind.accumulate(st.x, st.v, 0.0, out)
     expected = 0.5 * forces.AIR_DENSITY * forces.DRAG_COEFFICIENT * 1.0 * 25.0
@@ -42,7 +43,8 @@ def test_wind_on_a_flat_sheet_is_drag_times_area_along_the_normal():
     # twice the side → four times the area → four times the force
     _, m2, st2 = model_and_state(cloth__resolution=9, cloth__pinned="none", cloth__size=2.0)
     out2 = np.zeros_like(st2.x)
-    forces.Wind(m2, 5.0, [0.0, 1.0, 0.0], "constant").accumulate(st2.x, st2.v, 0.0, out2)
+    up = StepParams(wind_speed=5.0, wind_direction=[0.0, 1.0, 0.0])
+    forces.Wind(m2, up).accumulate(st2.x, st2.v, 0.0, out2)
     assert total_force(m2, out2)[1] == pytest.approx(4 * expected)
 
 
@@ -52,8 +54,8 @@ def test_wind_scales_with_angle_and_vanishes_edge_on():
     for deg in (0.0, 60.0, 90.0):
         a = math.radians(deg)  # angle between the air and the sheet's normal (y)
         out = np.zeros_like(st.x)
-        forces.Wind(m, 5.0, [math.sin(a), math.cos(a), 0.0], "constant").accumulate(
-            st.x, st.v, 0.0, out)
+        air = StepParams(wind_speed=5.0, wind_direction=[math.sin(a), math.cos(a), 0.0])
+        forces.Wind(m, air).accumulate(st.x, st.v, 0.0, out)
         f[deg] = total_force(m, out)
     assert f[60.0][1] == pytest.approx(0.25 * f[0.0][1])  # ∝ cos²
     assert np.abs(f[90.0]).max() < 1e-12
@@ -63,7 +65,7 @@ def test_wind_scales_with_angle_and_vanishes_edge_on():
 def test_sheet_moving_with_the_air_feels_no_wind():
     _, m, st = model_and_state(cloth__resolution=7, cloth__pinned="none")
     air = np.array([0.0, 3.0, 4.0])
-    wind = forces.Wind(m, 5.0, air, "constant")
+    wind = forces.Wind(m, StepParams(wind_speed=5.0, wind_direction=air))
     still, moving = np.zeros_like(st.x), np.zeros_like(st.x)
     wind.accumulate(st.x, np.zeros_like(st.v), 0.0, still)
     wind.accumulate(st.x, np.tile(air, (m.num_particles, 1)), 0.0, moving)
@@ -118,7 +120,8 @@ def test_black_hole_pulls_the_sheet_together():
 
 def test_black_hole_is_finite_at_its_centre_and_falls_off_with_distance():
     _, m, _ = model_and_state(cloth__resolution=2, cloth__pinned="none")
-    field = forces.CustomField(m, "black_hole", 10.0, 0.0)
+    hole = StepParams(custom_strength=10.0, custom_rate=0.0)
+    field = forces.CustomField(m, "black_hole", hole)
     c = np.array(forces.FIELD_CENTER)
     x = np.array([c, c + [0.01, 0, 0], c + [0.5, 0, 0], c + [2.0, 0, 0]])
     out = np.zeros_like(x)
@@ -138,7 +141,8 @@ def test_anti_gravity_lifts_and_custom_rate_varies_it():
                                        forces__custom_rate=0.0)), 30)
     assert sim.state.x[:, 1].mean() > Scene().cloth.height + 0.1
     _, m, st = model_and_state(cloth__resolution=2, cloth__pinned="none")
-    field = forces.CustomField(m, "anti_gravity", 10.0, 1.0)
+    lift = StepParams(custom_strength=10.0, custom_rate=1.0)
+    field = forces.CustomField(m, "anti_gravity", lift)
     lifts = []
     for t in (0.25, 0.75):
         out = np.zeros_like(st.x)
@@ -158,7 +162,8 @@ def test_vortex_spins_the_sheet_about_the_vertical_axis():
 def test_tractor_beam_lifts_only_under_the_beam():
     _, m, st = model_and_state(cloth__resolution=21, cloth__pinned="none")
     out = np.zeros_like(st.x)
-    forces.CustomField(m, "tractor_beam", 10.0, 0.0).accumulate(st.x, st.v, 0.0, out)
+    beam = StepParams(custom_strength=10.0, custom_rate=0.0)
+    forces.CustomField(m, "tractor_beam", beam).accumulate(st.x, st.v, 0.0, out)
     under = np.linalg.norm(st.x[:, [0, 2]] - [forces.BEAM_ORBIT, 0.0], axis=1)
     assert out[np.argmin(under), 1] == pytest.approx(10.0, rel=0.02)
     assert out[np.argmax(under), 1] < 0.01
@@ -170,7 +175,7 @@ def test_apply_is_accumulate_at_the_state(kind):
     s, m, st = model_and_state(cloth__resolution=6, cloth__pinned="corners")
     st.t = 0.3
     st.x += np.random.default_rng(1).normal(0, 0.05, st.x.shape)
-    effect = forces.CustomField(m, kind, 7.0, 0.5)
+    effect = forces.CustomField(m, kind, StepParams(custom_strength=7.0, custom_rate=0.5))
     out = np.zeros_like(st.x)
     effect.accumulate(st.x, st.v, st.t, out)
     effect.apply(st, 0.01)

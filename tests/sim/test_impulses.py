@@ -6,6 +6,7 @@ import pytest
 
 from cloth_tui.sim import impulses
 from cloth_tui.sim.model import build_model
+from cloth_tui.sim.params import StepParams
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from .helpers import scene
@@ -82,7 +83,8 @@ def test_rain_is_reproducible_from_the_seed():
 
 def test_drop_count_is_poisson_with_the_rate():
     s = rainy(forces__rain_rate=20.0)
-    rain = impulses.build_impulses(s, build_model(s.cloth, s.behavior))[0]
+    model = build_model(s.cloth, s.behavior)
+    rain = impulses.build_impulses(s, model, StepParams.of(s))[0]
     dt = 1 / 60
     counts = np.array([len(rain.strikes(k * dt, dt)) for k in range(3000)])  # 50 s
     assert counts.sum() == pytest.approx(20.0 * 50, rel=0.1)  # σ ≈ 3 %

@@ -10,11 +10,16 @@ from cloth_tui.bench import accuracy as A
 from cloth_tui.scene import Scene
 from cloth_tui.sim import pipeline
 from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.params import StepParams
 from cloth_tui.sim.springs import ORDERS, IntegrateSprings
 from cloth_tui.sim.state import ClothState
 
 K, M, L0, AMP = 40.0, 0.1, 1.0, 0.05   # ω = 20 rad/s, period ≈ 0.314 s
 
+
+
+def spring_params(b) -> StepParams:
+    return StepParams(stiffness=b.stiffness, spring_damping=b.spring_damping, damping=b.damping)
 
 def oscillator(integrator, damping=0.0):
     """Particle 0 pinned at the origin, particle 1 (mass M) on a spring of stiffness K."""
@@ -26,7 +31,7 @@ def oscillator(integrator, damping=0.0):
     x = np.array([[0.0, 0, 0], [L0 + AMP, 0, 0]])
     state = SimpleNamespace(x=x, x_prev=x.copy(), v=np.zeros((2, 3)), accel=np.zeros((2, 3)),
                             alive=np.ones(1, np.uint8), t=0.0)
-    return IntegrateSprings(model, b, []), state
+    return IntegrateSprings(model, b, [], spring_params(b)), state
 
 
 def run_oscillator(integrator, h, t_end):
@@ -151,7 +156,7 @@ def test_force_effects_are_evaluated_through_the_protocol():
         rest_length=np.array([L0]), mass=np.array([M, M]), inv_mass=np.array([0.0, 1.0 / M]),
         pinned=np.array([0], np.int64))
     b = SimpleNamespace(integrator="rk4", stiffness=K, spring_damping=0.0, damping=0.0)
-    eff = IntegrateSprings(model, b, [Pull(), Drive()])
+    eff = IntegrateSprings(model, b, [Pull(), Drive()], spring_params(b))
     out = eff.accel(np.array([[0.0, 0, 0], [L0, 0, 0]]), np.zeros((2, 3)), 0.0, np.zeros((2, 3)))
     np.testing.assert_allclose(out, [[0, 0, 0], [0, -1.0, 0]])
     _, state = oscillator("rk4")

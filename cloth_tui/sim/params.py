@@ -1,0 +1,128 @@
+"""The values a step's stages read every substep: the forces' strengths, friction, damping
+and the solver's numbers (as Warp's `model.gravity` and `Control`).
+
+A step (pipeline.build) holds one StepParams and its stages read it when they run, so a
+change of these values is an assignment (`assign`) that the next substep sees; the masses
+(cloth.mass, a material's density) and a material's α per constraint are the model's
+numbers, refitted in place (model.refitted, Step.retune). Nothing is rebuilt, and the
+adaptive substeps, the kernels' thread choice and the divergence guard go on. What a step *is* (which stages run, on which particles and constraints) is the scene's
+`structure`: the scene with every parameter reduced to what decides whether its stage
+exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no wind stage). Two scenes of
+the same structure run the same stages, so only a change of structure rebuilds the step.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from ..materials.schema import Material
+from ..scene import Scene
+
+
+def _positive(value: float) -> bool:
+    return value > 0
+
+
+def _irrelevant(value: Any) -> None:
+    return None
+
+
+# Each parameter key, and what of its value decides whether the step has its stage.
+PARAMETER_KEYS: dict[str, Callable[[Any], Any]] = {
+    "forces.gravity_strength": _positive,
+    "forces.wind_strength": _positive,
+    "forces.wind_direction": _irrelevant,
+    "forces.wind_mode": _irrelevant,
+    "forces.custom_strength": _positive,
+    "forces.custom_rate": _irrelevant,
+    "forces.rain_strength": _positive,
+    "forces.rain_rate": _positive,
+    "scene.friction": _irrelevant,
+    "behavior.damping": _irrelevant,
+    "behavior.compliance": _irrelevant,
+    "behavior.iterations": _irrelevant,
+    "behavior.max_speed": _irrelevant,
+    "behavior.stiffness": _irrelevant,
+    "behavior.spring_damping": _irrelevant,
+    "cloth.mass": _irrelevant,  # the model's masses, written in place (model.refitted)
+}
+
+
+@dataclass
+class StepParams:
+    """What the stages read each substep. Assigned only between frames, on the thread that
+    steps (the simulation's), so a substep never sees half a change."""
+    gravity: float = 9.81           # m/s², downward (forces.gravity_strength)
+    wind_speed: float = 5.0         # m/s (forces.wind_strength)
+    wind_direction: tuple = (0.0, 0.0, 1.0)  # unit vector the air moves along
+    wind_mode: str = "constant"
+    custom_strength: float = 10.0   # m/s²
+    custom_rate: float = 0.5        # Hz
+    rain_strength: float = 0.01     # m
+    rain_rate: float = 20.0         # drops/s
+    friction: float = 0.9           # μs of the floor and of objects without their own
+    damping: float = 0.03           # share of velocity lost per 18 ms (behavior.damping)
+    compliance: float = 1e-8        # m/N, xpbd without a material
+    iterations: int = 4             # constraint passes per substep
+    max_speed: float = 50.0         # m/s
+    stiffness: float = 2000.0       # N/m, springs
+    spring_damping: float = 0.5     # N·s/m, springs
+    material: Material | None = None  # the fabric's numbers (damping, α), None: none
+
+    def __post_init__(self) -> None:
+        self.wind_direction = unit(self.wind_direction)
+
+    @classmethod
+    def of(cls, scene: Scene) -> "StepParams":
+        return cls(**_values(scene))
+
+    def assign(self, scene: Scene) -> None:
+        """Take `scene`'s values (one of the same structure as the step's)."""
+        for name, value in _values(scene).items():
+            setattr(self, name, value)
+
+
+def unit(direction) -> tuple:
+    x, y, z = (float(v) for v in direction)
+    n = math.sqrt(x * x + y * y + z * z)
+    return (x / n, y / n, z / n)
+
+
+def _values(scene: Scene) -> dict[str, Any]:
+    f, b = scene.forces, scene.behavior
+    return dict(gravity=f.gravity_strength, wind_speed=f.wind_strength,
+                wind_direction=unit(f.wind_direction), wind_mode=f.wind_mode,
+                custom_strength=f.custom_strength, custom_rate=f.custom_rate,
+                rain_strength=f.rain_strength, rain_rate=f.rain_rate,
+                friction=scene.scene.friction, damping=b.damping, compliance=b.compliance,
+                iterations=b.iterations, max_speed=b.max_speed, stiffness=b.stiffness,
+                spring_damping=b.spring_damping,
+                material=None if scene.material is None else scene.material.material)
+
+
+def structure(scene: Scene) -> Scene:
+    """`scene` with each parameter reduced to what decides whether its stage exists (see
+    the module's docstring): equal structures run the same stages."""
+    sections = {}
+    for dotted, decides in PARAMETER_KEYS.items():
+        section, name = dotted.split(".")
+        sections.setdefault(section, {})[name] = decides(getattr(getattr(scene, section), name))
+    out = dataclasses.replace(scene, **{s: dataclasses.replace(getattr(scene, s), **values)
+                                        for s, values in sections.items()})
+    if scene.material is not None:
+        # Its numbers are α per constraint and masses (model.refitted); what constraints
+        # there are depends only on whether it has a bending rigidity.
+        m = scene.material.material
+        numbers = dataclasses.replace(m, areal_density=0.0, stretch_warp=0.0, stretch_weft=0.0,
+                                      shear=0.0, bending=float(m.bending > 0), damping=0.0,
+                                      tear_strength=None, preset="")
+        out.material = dataclasses.replace(scene.material, table={}, material=numbers)
+    return out
+
+
+def same_structure(a: Scene, b: Scene) -> bool:
+    """Whether a step built for `a` runs `b` once given b's StepParams."""
+    return structure(a) == structure(b)
