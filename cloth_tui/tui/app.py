@@ -28,6 +28,7 @@ from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
 from ..sim.held_contacts import check_start
+from ..sim.params import same_structure
 from ..sim.sim_thread import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
@@ -255,17 +256,22 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
 
     # -- scene changes --------------------------------------------------------------------
     def set_value(self, dotted: str, value: Any) -> bool:
-        """Apply one setting live; a refused value is reported and changes nothing."""
+        """Apply one setting live; a refused value is reported and changes nothing. A value
+        the step reads as a parameter (sim/params.py) is checked by the scene's validators
+        alone and taken by the running step; any other change is also checked for held
+        particles in objects here, before the simulation thread builds anything."""
         try:
             new = self.scene.with_value(dotted, value)
-            check_start(new)  # refused here, not by the simulation thread
+            if not same_structure(new, self.scene):
+                check_start(new)  # refused here, not by the simulation thread
         except SceneError as e:
             self.notify(str(e), title="Value refused", severity="error", timeout=8)
             return False
-        self.apply_scene(new)
+        self.apply_scene(new, shown=True)  # the field that asked shows it (or action_toggle)
         return True
 
-    def apply_scene(self, new: Scene, *, restart: bool = False) -> None:
+    def apply_scene(self, new: Scene, *, restart: bool = False, shown: bool = False) -> None:
+        """Run `new`. `shown`: the caller shows it (one key changed: set_value's)."""
         self.scene = new
         if self.sim is not None:
             self.sim.submit(lambda sim, new=new: sim.set_scene(new))
@@ -275,7 +281,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
                 self._crosshair_placed = False  # back onto the (new) sheet
         if self.renderer is not None:
             self.renderer.update_scene(new)
-        self.controls.show_scene(new)
+        if not shown:
+            self.controls.show_scene(new)
 
     def open_scene(self, name: str) -> None:
         try:
@@ -330,7 +337,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         self._log_key("restart")
 
     def action_toggle(self, dotted: str) -> None:
-        self.set_value(dotted, not self.scene.get(dotted))
+        if self.set_value(dotted, not self.scene.get(dotted)):
+            self.controls.show_value(dotted, self.scene)
         self._log_key(dotted)
 
     def action_unfocus(self) -> None:

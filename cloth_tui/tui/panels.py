@@ -357,6 +357,13 @@ class Controls(VerticalScroll):
         event.stop()
         self.post_message(self.Command(event.button.id or ""))
 
+    def show_value(self, dotted: str, scene: Scene) -> None:
+        """Show `scene`'s value of the one key `dotted` (a scene with only it changed); a
+        key with no row of its own (a [material] key) shows nowhere."""
+        self._scene = scene
+        for field in self.query("#" + widget_id(dotted) + "-row").results(SettingField):
+            field.show(scene.get(dotted))
+
     def show_scene(self, scene: Scene) -> None:
         """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
         from .pins_panel import PinsPanel

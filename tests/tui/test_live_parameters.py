@@ -1,0 +1,72 @@
+"""Editing a force, friction or damping value in the running app: the simulation's step
+takes the value as it runs (sim/params.py), keeping its substeps, kernel choice and guard,
+and the UI thread builds no model for it."""
+
+import dataclasses
+import threading
+
+from cloth_tui.scene import Scene
+from cloth_tui.sim.model import ClothModel
+from cloth_tui.tui.panels import widget_id
+
+from .conftest import SIZE, make_app, notifications, run, sim_scene, until
+
+EDITS = [("forces.wind_strength", "5", 5.0), ("forces.gravity_strength", "4", 4.0),
+         ("scene.friction", "0.3", 0.3), ("behavior.damping", "0.1", 0.1)]
+
+
+def test_parameter_edits_keep_the_run_and_build_no_model_on_the_ui_thread(tmp_path,
+                                                                        monkeypatch):
+    ui_thread = threading.get_ident()
+    built_on_ui: list[str] = []
+    init = ClothModel.__init__
+
+    def watched(self, *args, **kwargs):
+        if threading.get_ident() == ui_thread:
+            built_on_ui.append("ClothModel")
+        init(self, *args, **kwargs)
+
+    scene = Scene().with_values({"cloth.resolution": 12, "forces.wind": True,
+                                 "forces.wind_strength": 3.0, "scene.object": "sphere"})
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.sim is not None, what="the simulation")
+
+            def as_after_a_hard_frame(sim):
+                sim.control.substeps = 7   # the adaptive controller's count
+                sim._guard_level = 1       # the guard retrying at twice that
+                sim.recoveries = 1
+                sim._build_step()
+            app.sim.submit(as_after_a_hard_frame)
+            await until(pilot, lambda: app.sim.sim.step.substeps == 14, what="the guard")
+            sim = app.sim.sim
+            step, kernels = sim.step, sim.step.solver.projection.kernels
+            control = dataclasses.asdict(sim.control)
+            monkeypatch.setattr(ClothModel, "__init__", watched)
+            for dotted, text, value in EDITS:
+                field = app.query_one("#" + widget_id(dotted))
+                field.focus()
+                field.value = text
+                await pilot.press("enter")
+                await until(pilot, lambda: sim_scene(app).get(dotted) == value, what=dotted)
+                assert app.scene.get(dotted) == value
+            assert built_on_ui == []
+            assert sim.step is step and sim.step.substeps == 14
+            assert sim.step.solver.projection.kernels is kernels
+            assert dataclasses.asdict(sim.control) == control
+            assert (sim._guard_level, sim.recoveries) == (1, 1)
+            p = sim.step.params
+            assert (p.wind_speed, p.gravity, p.friction, p.damping) == (5.0, 4.0, 0.3, 0.1)
+
+            # a refused value returns to the field that asked: it shows the last good one
+            field = app.query_one("#" + widget_id("forces.wind_strength"))
+            field.focus()
+            field.value = "-2"
+            await pilot.press("enter")
+            await pilot.pause(0.1)
+            assert any("forces.wind_strength = -2" in n for n in notifications(app))
+            assert field.value == "5" and app.scene.forces.wind_strength == 5.0
+            assert app.focused is field
+    run(go())
