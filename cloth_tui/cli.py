@@ -221,9 +221,9 @@ def cmd_simulate(args) -> int:
             square = {"resolution": np.int64(m.nx)} if m.nx == m.nz else {}
             np.savez(fh, positions=sim.state.x, shape=np.array(m.shape, np.int64), **square)
     if args.json:
-        print(json.dumps(stats))
+        print(json.dumps(stats.as_dict()))
     else:
-        for k, v in stats.items():
+        for k, v in stats.as_dict().items():
             print(f"{k:>13}: {v}")
     return 0
 

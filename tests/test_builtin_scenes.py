@@ -31,11 +31,11 @@ def test_scene_runs_300_frames_stably(name):
     for _ in range(300):
         sim.advance_frame()
     st = sim.stats()
-    assert st["finite"] and np.isfinite(st["energy"])
-    assert st["recoveries"] == 0
-    assert st["penetration"] <= scene.scene.thickness + 1e-3
-    assert st["max_stretch"] < 0.5
-    assert st["max_speed"] < scene.behavior.max_speed
+    assert st.finite and np.isfinite(st.energy)
+    assert st.recoveries == 0
+    assert st.penetration <= scene.scene.thickness + 1e-3
+    assert st.max_stretch < 0.5
+    assert st.max_speed < scene.behavior.max_speed
 
 
 def test_scenes_command_prints_the_descriptions():

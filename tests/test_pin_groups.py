@@ -118,7 +118,7 @@ def test_the_readmes_example_is_a_scene_that_runs():
     sim = Simulation(s)
     for _ in range(30):
         sim.advance_frame()
-    assert sim.stats()["finite"]
+    assert sim.stats().finite
     lifted = 12 * 26 + 12
     assert sim.state.x[lifted, 1] == pytest.approx(sim.model.rest_positions[lifted, 1] + 0.2)
 

@@ -153,7 +153,7 @@ def test_accepted_tiny_values_simulate(key_value, wind):
         for _ in range(3):
             sim.advance_frame()
     assert np.isfinite(sim.state.x).all()
-    assert sim.stats()["finite"]
+    assert sim.stats().finite
 
 
 def test_the_reported_examples():
@@ -230,4 +230,4 @@ def test_held_particles_never_start_inside_the_floor(height, floor, thickness, p
     sim = Simulation(scene)
     for _ in range(4):
         sim.advance_frame()
-    assert sim.stats()["penetration"] <= thickness + 0.01
+    assert sim.stats().penetration <= thickness + 0.01

@@ -80,6 +80,7 @@ def run_bake(args) -> int:
     check_bake_output(out, frames)
     scene = apply_overrides(load(args.scene), args.overrides)
 
+    from ..sim.run_stats import RunStats
     from ..sim.runner import Simulation
 
     with mesh_grid_progress(sys.stderr.isatty()):
@@ -93,7 +94,7 @@ def run_bake(args) -> int:
                 if interrupt.signum is not None:
                     break
                 sim.advance_frame()
-                snap = sim.snapshot(stats={})
+                snap = sim.snapshot(stats=RunStats())
                 writer.write(BakedFrame(frame, snap.t, snap.positions, snap.objects,
                                         snap.alive))
                 done = frame

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from ..scene import Scene
 from ..sim.model import ClothModel, build_model
+from ..sim.run_stats import RunStats
 from ..sim.runner import Snapshot
 from ..usage import UsageError
 from .usd_read import UsdBake
@@ -99,5 +100,5 @@ class BakePlayer:
 
     def snapshot(self) -> Snapshot:
         frame = self.frame
-        return Snapshot(self.bake.positions(frame), frame, self.time, {}, self.model,
+        return Snapshot(self.bake.positions(frame), frame, self.time, RunStats(), self.model,
                         self.scene, self.bake.objects(frame), self.bake.alive(frame))

@@ -125,7 +125,7 @@ def settle_clamped(free_length: float, links: int, material) -> dict:
         wall += timed_frames(sim, chunk)
         last = drop
         drop, reach = _tip(sim, rows, cols)
-        if not math.isfinite(drop) or not sim.stats()["finite"]:
+        if not math.isfinite(drop) or not sim.stats().finite:
             raise LabError(f"the clamped strip diverged at {links} links "
                            f"({scene.behavior.substeps} substeps)")
         if abs(drop - last) < SETTLED_DRIFT * free_length:
@@ -136,7 +136,7 @@ def settle_clamped(free_length: float, links: int, material) -> dict:
                            f"{abs(drop - last) / free_length:.1e}·L per check)")
     return {"drop": drop, "reach": reach, "chord_angle": math.atan2(drop, reach),
             "wall_s": wall, "max_speed": float(np.abs(sim.state.v).max()),
-            "max_stretch": sim.stats()["max_stretch"], "substeps": scene.behavior.substeps,
+            "max_stretch": sim.stats().max_stretch, "substeps": scene.behavior.substeps,
             "settled_s": sim.state.t}
 
 

@@ -56,7 +56,7 @@ def _measure_catenary(case: Case, segments: int, material) -> Measurement:
     sag = float(np.mean(x[:, 0, 1] - lowest))
     stats = sim.stats()
     discrete = chain_sag(SPAN, LENGTH, segments)
-    return Measurement(sag, {"wall_s": wall, "max_stretch": stats["max_stretch"],
+    return Measurement(sag, {"wall_s": wall, "max_stretch": stats.max_stretch,
                              "discrete_chain": discrete, "solve_error": sag / discrete - 1,
                              "substeps": catenary_substeps(segments)})
 
@@ -134,7 +134,7 @@ def _measure_swing(case: Case, segments: int, material) -> Measurement:
     discrete = 2 * math.pi / lumped_chain_omega(LENGTH, GRAVITY, segments)
     return Measurement(period, {"wall_s": wall, "crossings": crossings,
                                 "discrete_chain": discrete, "solve_error": period / discrete - 1,
-                                "max_stretch": sim.stats()["max_stretch"]})
+                                "max_stretch": sim.stats().max_stretch})
 
 
 SWING = Experiment(

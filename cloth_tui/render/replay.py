@@ -18,6 +18,7 @@ from ..io.bake_player import bake_model
 from ..io.usd_read import UsdBake
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, parse_override
+from ..sim.run_stats import RunStats
 from ..sim.runner import Snapshot
 from ..usage import UsageError
 from .capture import CaptureError, VideoWriter, save_png
@@ -64,7 +65,7 @@ def run_replay(args, out: Path, size: tuple[int, int],
             for frame in frames:
                 if interrupt.signum is not None:
                     break
-                snap = Snapshot(bake.positions(frame), frame, frame / bake.frame_rate, {},
+                snap = Snapshot(bake.positions(frame), frame, frame / bake.frame_rate, RunStats(),
                                 model, scene, bake.objects(frame), bake.alive(frame))
                 image = renderer.render(snap)
                 if video is not None:

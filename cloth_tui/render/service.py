@@ -18,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..sim.run_stats import RunStats
 from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
 from .probe import RendererUnavailable
 
@@ -35,7 +36,7 @@ class Frame:
     image: np.ndarray  # (H, W, 3) uint8
     frame: int         # simulation frame shown
     render_ms: float
-    sim_stats: dict
+    sim_stats: RunStats
 
 
 @dataclass(frozen=True)
@@ -234,7 +235,7 @@ class RenderService:
                 self._emit("error", None, f"preview file: {e}")
         if self.on_frame is not None:
             try:
-                self.on_frame(Frame(image, int(snapshot.frame), ms, dict(snapshot.stats)))
+                self.on_frame(Frame(image, int(snapshot.frame), ms, snapshot.stats))
             except Exception:
                 pass  # a UI callback bug must not stop the pictures
 

@@ -21,6 +21,7 @@ from .held_contacts import check_held_particles
 from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
 from .params import same_structure
 from .pins import with_user_pin
+from .run_stats import FrameStats, RunStats
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
@@ -87,7 +88,7 @@ class Snapshot:
     positions: np.ndarray
     frame: int
     t: float
-    stats: dict
+    stats: RunStats
     model: ClothModel
     scene: Scene
     objects: tuple = ()  # ObjectPose of every object, where it is at time t
@@ -127,6 +128,7 @@ class Simulation:
                                          adaptive=b.adaptive and b.solver != "springs",
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
+        self._measured_met: bool | None = None  # fixed substeps: the last stats()' verdict
         self.frame_damping: float | None = None  # its numerical damping, 1/s (if measurable)
         self.numerical_damping: float | None = None  # averaged over recent frames, 1/s
         self._frame_energy: float | None = None  # energy at the end of the last frame, J
@@ -473,26 +475,22 @@ class Simulation:
         return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h,
                       self._alpha_tilde_now())
 
-    def frame_stats(self) -> dict:
+    def frame_stats(self) -> FrameStats:
         """The statistics cheap enough for every frame."""
-        return {
-            "frames": self.frames,
-            "steps": self.state.steps,
-            "torn": self.state.torn,                        # constraints broken (tearing.py)
-            "t": self.state.t,
-            "recoveries": self.recoveries,
-            "halted": self.halted,
-            "frame_ms": 1e3 * self.last_step_s,            # simulation time of the last frame
-            "mean_frame_ms": 1e3 * self.wall_s / self.frames if self.frames else 0.0,
-            "step_ms": 1e3 * self.last_step_s / self.step.substeps,  # of one substep in it
-            "substeps_used": self.step.substeps,            # adaptive or recovering: ≠ asked
-            "wall_s": self.wall_s,
-            "numerical_damping": self.numerical_damping,   # 1/s, None: not measurable
-        } | ({"tolerance_met": self.control.met,            # of the last frame
-              "frame_error": self.frame_error}              # what the controller measured
-             if self.control.adaptive else {})
+        adaptive = self.control.adaptive
+        return FrameStats(
+            frames=self.frames, steps=self.state.steps, torn=self.state.torn, t=self.state.t,
+            recoveries=self.recoveries, halted=self.halted,
+            frame_ms=1e3 * self.last_step_s,
+            mean_frame_ms=1e3 * self.wall_s / self.frames if self.frames else 0.0,
+            step_ms=1e3 * self.last_step_s / self.step.substeps,
+            substeps_used=self.step.substeps, wall_s=self.wall_s,
+            numerical_damping=self.numerical_damping,
+            tolerance_met=self.control.met if adaptive else self._measured_met,
+            frame_error=self.frame_error if adaptive else None)
 
-    def stats(self) -> dict:
+    def stats(self) -> RunStats:
+        """Every statistic, the costly ones measured now."""
         x = self.state.x
         finite = self._finite()
         max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
@@ -500,33 +498,27 @@ class Simulation:
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
         error = (self._solve_error() if finite and self.scene.behavior.solver != "springs"
                  else None)
-        out = {
-            "particles": self.model.num_particles,
-            "constraints": self.model.num_constraints,
-            "finite": finite,
-            "min_y": float(x[:, 1].min()),
-            "max_speed": float(speed.max()),
-            "max_stretch": max_s,
-            "mean_stretch": mean_s,
-            "solver": self.scene.behavior.solver,
-            "material": None if self.scene.material is None else self.scene.material.name,
-            "error": error,                                 # solve error, share of L0
+        energy_tolerance = self.control.energy_tolerance
+        if not self.control.adaptive:  # (adaptive: the controller's verdict, per frame)
+            self._measured_met = (None if error is None and energy_tolerance is None
+                                  else self.control.meets(error or 0.0))
+        return RunStats(
+            measured=True,
+            particles=self.model.num_particles, constraints=self.model.num_constraints,
+            finite=finite, min_y=float(x[:, 1].min()), max_speed=float(speed.max()),
+            max_stretch=max_s, mean_stretch=mean_s, solver=self.scene.behavior.solver,
+            error=error,
             # springs have no constraint solve to be off its equilibrium: nothing to bound
-            "error_tolerance": None if error is None else self.control.tolerance,
-            "energy_tolerance": self.control.energy_tolerance,
-            "energy": self._energy(),
-            "penetration": self.penetration,
-            "effects": self.step.names,
-        } | self.frame_stats()
-        if not self.control.adaptive:
-            out["tolerance_met"] = (None if error is None and self.control.energy_tolerance is None
-                                    else self.control.meets(error or 0.0))
-        return out
+            error_tolerance=None if error is None else self.control.tolerance,
+            energy_tolerance=energy_tolerance, energy=self._energy(),
+            penetration=self.penetration, effects=tuple(self.step.names),
+            material=None if self.scene.material is None else self.scene.material.name,
+        ).refreshed(self.frame_stats())
 
-    def snapshot(self, stats: dict | None = None) -> Snapshot:
-        """A snapshot with full statistics, or with `stats` (an earlier full set) refreshed
-        by this frame's cheap ones."""
-        stats = self.stats() if stats is None else stats | self.frame_stats()
+    def snapshot(self, stats: RunStats | None = None) -> Snapshot:
+        """A snapshot with full statistics, or with `stats` (an earlier full set, or
+        `RunStats()` for none) refreshed by this frame's cheap ones."""
+        stats = self.stats() if stats is None else stats.refreshed(self.frame_stats())
         poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
         alive = self.state.alive.copy() if self.state.torn else None
         return Snapshot(self.state.x.copy(), self.frames, self.state.t, stats,

@@ -9,6 +9,7 @@ from collections import deque
 from typing import Callable
 
 from ..scene import Scene
+from .run_stats import RunStats
 from .runner import Simulation, Snapshot
 
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
@@ -38,7 +39,7 @@ class SimulationThread:
         self._wake = threading.Event()
         self._lock = threading.Lock()
         self._latest = self.sim.snapshot()
-        self._stats: dict | None = None  # the last full statistics published, and when
+        self._stats: RunStats | None = None  # the last full statistics published, and when
         self._stats_t = 0.0
         self._thread = threading.Thread(target=self._run, name="cloth-sim", daemon=True)
         self.error: BaseException | None = None

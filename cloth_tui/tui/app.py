@@ -214,7 +214,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         snap = self._snap_box
         if snap is not None and self.sim is not None:
             self.readout.on_snapshot(snap.frame, snap.stats)
-            halted = snap.stats.get("halted")
+            halted = snap.stats.halted
             if halted and halted != self._halt_told:
                 self.notify(f"Simulation stopped: {halted}", severity="error", timeout=15)
             self._halt_told = halted

@@ -10,6 +10,7 @@ from typing import Callable
 
 from ..io.mesh_sequence import BakeIOError
 from ..io.usd_bake import missing_usd_message
+from ..sim.run_stats import RunStats
 
 
 class BakeKey:
@@ -29,7 +30,7 @@ class BakeKey:
         a bake has every frame, also those the app shows as one while catching up."""
         recorder = self.recorder
         if recorder is not None and recorder.ended_by is None:
-            recorder.offer(sim.snapshot(stats={}))
+            recorder.offer(sim.snapshot(stats=RunStats()))
 
     def toggle(self, snap) -> None:
         """Start a bake from this snapshot's sheet, or stop the running one."""

@@ -16,6 +16,8 @@ from textual.containers import Horizontal, Vertical
 from textual.content import Content
 from textual.widgets import Sparkline, Static
 
+from ..sim.run_stats import RunStats
+
 # Numerical damping (share of free energy per second) below this is not worth a place.
 DAMPING_SHOWN = 1e-3
 WIDE_TEXT = 1000      # cells: a line with room for everything in its longest form
@@ -54,7 +56,7 @@ class Readout:
         self.sim_rate = RateMeter()
         self.view_rate = RateMeter()
         self.shown = 0
-        self.stats: dict = {}
+        self.stats = RunStats()
         self.frame_ms = 0.0
         self.step_ms = 0.0
         self.render_ms = 0.0
@@ -66,12 +68,12 @@ class Readout:
     def restart(self) -> None:
         self.energy0 = None
 
-    def on_snapshot(self, frame: int, stats: dict) -> None:
+    def on_snapshot(self, frame: int, stats: RunStats) -> None:
         if frame < self.last_frame or self.energy0 is None:
-            self.energy0 = stats.get("energy")
+            self.energy0 = stats.energy
         if frame != self.last_frame:
-            self.frame_ms = stats.get("frame_ms", 0.0)
-            self.step_ms = stats.get("step_ms", 0.0)
+            self.frame_ms = stats.frame_ms
+            self.step_ms = stats.step_ms
             self.ms_history.append(self.frame_ms)
         self.last_frame = frame
         self.stats = stats
@@ -84,7 +86,7 @@ class Readout:
 
     @property
     def drift(self) -> float:
-        e = self.stats.get("energy")
+        e = self.stats.energy
         if e is None or self.energy0 is None:
             return 0.0
         return e - self.energy0
@@ -96,18 +98,18 @@ class Readout:
         springs). `short`: "NOT MET" without its padding and colon; `compact` also
         abbreviates ("denim · err 0.5 % → 9 sub, 4.1 ms")."""
         s = self.stats
-        tol = s.get("error_tolerance")
+        tol = s.error_tolerance
         if tol is None:
             return ""
-        what = s.get("material") or s.get("solver")
+        what = s.material or s.solver
         bound = f"{'err' if compact else 'error'} {100 * tol:g} %"
-        if s.get("energy_tolerance"):
-            bound += f", {'damp' if compact else 'damping'} {100 * s['energy_tolerance']:g} %/s"
-        used = s.get("substeps_used", 0)
+        if s.energy_tolerance:
+            bound += f", {'damp' if compact else 'damping'} {100 * s.energy_tolerance:g} %/s"
+        used = s.substeps_used
         text = (f"{what + ' · ' if what else ''}{bound} → "
                 + (f"{used} sub, {self.frame_ms:.1f} ms" if compact else
                    f"{used} substeps, {self.frame_ms:.1f} ms/frame"))
-        if s.get("tolerance_met") is not False:
+        if s.tolerance_met is not False:
             return f"[b]{text}[/]"
         if short or compact:
             return f"[b black on yellow]{text} NOT MET[/]"
@@ -136,7 +138,7 @@ class Readout:
         pct = lambda x: "—" if x is None or not math.isfinite(x) else f"{100 * x:.2f}%"  # noqa
         state = ([Part(("[b white on red] ● REC [/]", "[b white on red]● REC[/]",
                         "[b white on red]●[/]"), 8)] if recording else [])
-        if s.get("halted"):
+        if s.halted:
             state.insert(0, Part(("[b white on red] HALTED: diverging [/]",
                                   "[b white on red] HALTED [/]"), 8))
         sim, view = self.sim_rate.rate(), self.view_rate.rate()
@@ -147,26 +149,26 @@ class Readout:
             Part((f"sim {sim:3.0f} fps", f"sim {sim:.0f} fps"), 4),
             Part((f"view {view:3.0f} fps{mode}", f"view {view:.0f} fps{mode}"), 4),
         ]
-        particles = Part((f"{s.get('particles', 0)} particles",), 9)
-        stretch = Part((f"stretch max [b]{pct(s.get('max_stretch'))}[/] mean "
-                        f"{pct(s.get('mean_stretch'))}",
-                        f"stretch max [b]{pct(s.get('max_stretch'))}[/]",
-                        f"stretch [b]{pct(s.get('max_stretch'))}[/]"), 1)
-        e, de = s.get("energy", 0.0), self.drift
+        particles = Part((f"{s.particles} particles",), 9)
+        stretch = Part((f"stretch max [b]{pct(s.max_stretch)}[/] mean "
+                        f"{pct(s.mean_stretch)}",
+                        f"stretch max [b]{pct(s.max_stretch)}[/]",
+                        f"stretch [b]{pct(s.max_stretch)}[/]"), 1)
+        e, de = s.energy or 0.0, self.drift
         energy = Part((f"E {e:+.3f} J  ΔE since restart {de:+.3f} J", f"E {e:+.4g} J ΔE "
                        f"{de:+.4g} J", f"ΔE {de:+.4g} J"), 0)
         marks = []  # tears, the numerical damping, recoveries: shown at every width
-        if s.get("torn"):
-            marks.append(Part((f"[b]{s['torn']} torn[/]",), 9))
-        damping = s.get("numerical_damping")
+        if s.torn:
+            marks.append(Part((f"[b]{s.torn} torn[/]",), 9))
+        damping = s.numerical_damping
         if damping is not None and abs(damping) > DAMPING_SHOWN:
             marks.append(Part((f"numerical damping {100 * damping:.1f} %/s",
                                f"num. damping {100 * damping:.1f} %/s",
                                f"damping {100 * damping:.1f} %/s"), 5))
-        if s.get("recoveries"):
-            marks.append(Part((f"[red]{s['recoveries']} recoveries[/]",), 9))
+        if s.recoveries:
+            marks.append(Part((f"[red]{s.recoveries} recoveries[/]",), 9))
 
-        used = s.get("substeps_used", substeps)
+        used = s.substeps_used or substeps
         shown = f"{substeps}" if used == substeps else f"{substeps} (now {used})"
         frame = self.tolerance_text()
         frame_part = Part((frame, self.tolerance_text(short=True),

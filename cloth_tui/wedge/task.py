@@ -41,7 +41,7 @@ def run_cell(scene: Scene, frames: int, size: tuple[int, int], video: bool) -> d
     sim = Simulation(scene)
     sim.advance_frame()  # compiles (or loads cached) kernels; not counted in wall_s
     sim.reset()
-    e0 = sim.stats()["energy"]
+    e0 = sim.stats().energy
     renderer = _renderer(scene, size)
     clip = []
     for _ in range(frames):
@@ -51,14 +51,14 @@ def run_cell(scene: Scene, frames: int, size: tuple[int, int], video: bool) -> d
     stats = sim.stats()
     image = None if video else renderer.render(sim.snapshot(stats))
     return {
-        "max_stretch": stats["max_stretch"],
-        "energy_drift": stats["energy"] - e0,       # J, since the first frame
-        "penetration": stats["penetration"],
-        "recoveries": stats["recoveries"],
-        "substeps_used": stats["substeps_used"],
-        "halted": stats["halted"],
-        "finite": stats["finite"],
-        "wall_s": stats["wall_s"],                   # stepping only, as `simulate` reports
+        "max_stretch": stats.max_stretch,
+        "energy_drift": stats.energy - e0,       # J, since the first frame
+        "penetration": stats.penetration,
+        "recoveries": stats.recoveries,
+        "substeps_used": stats.substeps_used,
+        "halted": stats.halted,
+        "finite": stats.finite,
+        "wall_s": stats.wall_s,                   # stepping only, as `simulate` reports
         "task_s": time.perf_counter() - started,     # with start-up and rendering
         "worker": f"{socket.gethostname()}:{os.getpid()}",
         "image": image,

@@ -3,6 +3,7 @@
 import numpy as np
 
 from cloth_tui.scene_files import apply_overrides, load
+from cloth_tui.sim.run_stats import RunStats
 from cloth_tui.sim.runner import Simulation
 
 
@@ -12,7 +13,7 @@ def simulated_frames(scene_ref: str, overrides: list[str], frames: int):
     xs, poses = [], []
     for _ in range(frames):
         sim.advance_frame()
-        snap = sim.snapshot(stats={})
+        snap = sim.snapshot(stats=RunStats())
         xs.append(np.array(snap.positions))
         poses.append(snap.objects)
     return xs, poses

@@ -10,6 +10,7 @@ import numpy as np
 from cloth_tui.scene import Scene
 from cloth_tui.sim.protocols import ObjectPose
 from cloth_tui.sim.model import build_model
+from cloth_tui.sim.run_stats import RunStats
 from cloth_tui.sim.runner import Snapshot
 
 
@@ -28,7 +29,7 @@ def draped(scene: Scene, sag: float = 0.25, model=None, frame: int = 1,
     width, length = scene.cloth.dimensions()
     u, w = x[:, 0] / (width / 2), x[:, 2] / (length / 2)
     x[:, 1] -= sag * (1 - u * u * w * w) * (1 - 0.3 * (u * u + w * w))
-    return Snapshot(x, frame, frame / 60, {"frames": frame}, model, scene, tuple(objects))
+    return Snapshot(x, frame, frame / 60, RunStats(frames=frame), model, scene, tuple(objects))
 
 
 def with_positions(snap: Snapshot, positions) -> Snapshot:

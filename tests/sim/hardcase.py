@@ -43,9 +43,9 @@ def run_hard(overrides: dict, min_steps: int = 2000, max_stretch: float = 0.5,
     # where the caller says the settings are past any stable step).
     assert sim.state.steps >= min_steps or (allow_halt and sim.halted), sim.halted
     st = sim.stats()
-    assert st["finite"]
-    if st["constraints"]:
-        assert st["max_stretch"] <= max_stretch, st["max_stretch"]
-        assert st["mean_stretch"] <= max_mean, st["mean_stretch"]
-    assert st["penetration"] <= scene.scene.thickness + 1e-3
+    assert st.finite
+    if st.constraints:
+        assert st.max_stretch <= max_stretch, st.max_stretch
+        assert st.mean_stretch <= max_mean, st.mean_stretch
+    assert st.penetration <= scene.scene.thickness + 1e-3
     return sim

@@ -155,7 +155,7 @@ def test_sheet_stays_on_a_20_degree_slope_with_friction_1_and_slides_with_0():
     assert abs(dz_held) < 1e-3
     assert dz_slid > 0.5  # tan 20° > 0: without friction it accelerates downhill
     for sim in (held, slid):
-        assert sim.stats()["penetration"] <= sim.scene.scene.thickness + 1e-3
+        assert sim.stats().penetration <= sim.scene.scene.thickness + 1e-3
 
 
 @pytest.mark.parametrize("obj", ["none", "sphere", "box", "plane", "capsule"])
@@ -164,10 +164,10 @@ def test_no_particle_sinks_deeper_than_the_skin_after_settling(obj):
               behavior__substeps=8)
     sim = run(Simulation(s), 150)
     st = sim.stats()
-    assert st["finite"] and st["max_speed"] < 0.5
-    assert st["penetration"] <= s.scene.thickness + 1e-3
+    assert st.finite and st.max_speed < 0.5
+    assert st.penetration <= s.scene.thickness + 1e-3
     expected = {"none": ["collide_floor"]}.get(obj, ["collide_floor", f"collide_{obj}"])
-    assert [n for n in st["effects"] if n.startswith("collide")] == expected
+    assert [n for n in st.effects if n.startswith("collide")] == expected
 
 
 def test_moving_sphere_drags_a_draped_sheet():
@@ -187,7 +187,7 @@ def test_moving_sphere_drags_a_draped_sheet():
     along = (moved[0] * sphere_shift[0] + moved[2] * sphere_shift[2]) / np.hypot(
         sphere_shift[0], sphere_shift[2])
     assert along > 0.3 * np.hypot(sphere_shift[0], sphere_shift[2])
-    assert sim.stats()["penetration"] <= sim.scene.scene.thickness + 1e-3
+    assert sim.stats().penetration <= sim.scene.scene.thickness + 1e-3
 
 
 def test_orbit_pose_and_static_pose():
@@ -223,7 +223,7 @@ def test_plane_holds_a_rising_sheet_below_it():
     sim = run(Simulation(s), 60)
     assert sim.state.x[:, 1].max() <= 0.5 - s.scene.thickness + 1e-9
     assert sim.state.x[:, 1].min() > 0.45  # it did rise all the way to the plane
-    assert sim.stats()["penetration"] == 0.0
+    assert sim.stats().penetration == 0.0
 
 
 def test_tilted_plane_normal_is_20_degrees_from_vertical():

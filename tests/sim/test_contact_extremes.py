@@ -33,7 +33,7 @@ def test_extreme_rain_on_objects_that_meet_the_floor_stays_out_of_both(strength,
               scene__thickness=thickness, behavior__seed=seed, cloth__resolution=16)
     s.objects = [SceneObject(type=obj, **low)]
     st_ = run(Simulation(s), 20).stats()
-    assert st_["finite"] and st_["penetration"] <= thickness + SLACK, st_["penetration"]
+    assert st_.finite and st_.penetration <= thickness + SLACK, st_.penetration
 
 
 @settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -45,4 +45,4 @@ def test_a_free_sheet_straddling_a_plane_stays_on_its_sides(normal, offset, thic
               forces__gravity_strength=gravity)
     s.objects = [SceneObject(type="plane", center=[offset, 0.25, 0.0], normal=list(normal))]
     st_ = run(Simulation(s), 20).stats()
-    assert st_["finite"] and st_["penetration"] <= thickness + SLACK, st_["penetration"]
+    assert st_.finite and st_.penetration <= thickness + SLACK, st_.penetration

@@ -29,4 +29,4 @@ def test_a_sheet_pressed_into_a_crevice_stays_out_of_both_objects(gravity, frict
     s.objects = [other, SceneObject(type="sphere", center=[0.0, -0.25, 0.0], radius=radius)]
     sim = run(Simulation(s), 3)
     st_ = sim.stats()
-    assert st_["finite"] and st_["penetration"] <= thickness + SLACK, st_["penetration"]
+    assert st_.finite and st_.penetration <= thickness + SLACK, st_.penetration

@@ -80,7 +80,7 @@ def test_wind_blows_a_flag_downwind():
     windy = run(Simulation(scene(**base, forces__wind=True, forces__wind_strength=4.0)), 90)
     z_calm, z_windy = calm.state.x[:, 2].mean(), windy.state.x[:, 2].mean()
     assert z_windy > z_calm + 0.2  # the free edge is carried along +z
-    assert windy.stats()["finite"] and windy.stats()["max_stretch"] < 0.1
+    assert windy.stats().finite and windy.stats().max_stretch < 0.1
 
 
 def test_gusty_wind_varies_in_time_and_constant_does_not():

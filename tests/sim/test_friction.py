@@ -31,9 +31,9 @@ def sphere():
 def test_sheet_draped_on_the_sphere_comes_to_rest_on_it(sphere):
     sim, x, off_axis = sphere
     st = sim.stats()
-    assert st["finite"] and st["max_speed"] < 0.01
+    assert st.finite and st.max_speed < 0.01
     assert off_axis < 0.02
-    assert st["penetration"] <= sim.scene.scene.thickness + 1e-3
+    assert st.penetration <= sim.scene.scene.thickness + 1e-3
 
 
 def test_without_friction_the_sheet_slides_off_the_sphere(sphere):
@@ -48,7 +48,7 @@ def test_without_friction_the_sheet_slides_off_the_sphere(sphere):
 def test_box_holds_its_drape():
     sim, x, off_axis = settled("box")
     st = sim.stats()
-    assert st["finite"] and st["max_speed"] < 0.01
+    assert st.finite and st.max_speed < 0.01
     assert off_axis < 0.02
     assert x[:, 1].min() > sim.scene.scene.floor_height + 0.1  # hangs, does not slide down
-    assert st["penetration"] <= sim.scene.scene.thickness + 1e-3
+    assert st.penetration <= sim.scene.scene.thickness + 1e-3

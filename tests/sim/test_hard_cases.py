@@ -20,7 +20,7 @@ def test_one_substep_one_iteration_at_10_frames_per_second():
     # Before adaptive substeps: collapsed onto the floor, corners stretched 11.5×.
     sim = run_hard({"behavior.frame_rate": 10.0, "behavior.substeps": 1,
                     "behavior.iterations": 1})
-    assert sim.stats()["tolerance_met"] and sim.step.substeps > 1
+    assert sim.stats().tolerance_met and sim.step.substeps > 1
 
 
 @pytest.mark.parametrize("n", [2, 3])
@@ -125,8 +125,8 @@ def test_supersonic_wind_stays_bounded_and_says_the_tolerance_is_not_met():
                     "forces.wind_mode": "gusty", "cloth.pinned": "one_edge",
                     "forces.wind_direction": [1.0, -0.3, 0.5]}, max_stretch=1.0)
     st = sim.stats()
-    assert st["substeps_used"] == sim.scene.behavior.max_substeps
-    assert st["tolerance_met"] is (st["frame_error"] <= 0.05)
+    assert st.substeps_used == sim.scene.behavior.max_substeps
+    assert st.tolerance_met is (st.frame_error <= 0.05)
 
 
 @pytest.mark.parametrize("field", ["black_hole", "anti_gravity", "vortex", "tractor_beam"])
@@ -156,7 +156,7 @@ def test_drop_onto_box_edge():
         sim.advance_frame()
         assert sim.state.is_finite()
     st = sim.stats()
-    assert st["penetration"] <= s.scene.thickness + 1e-3 and st["max_speed"] < 5.0
+    assert st.penetration <= s.scene.thickness + 1e-3 and st.max_speed < 5.0
 
 
 def test_heavy_rain():

@@ -78,7 +78,7 @@ def test_rain_is_reproducible_from_the_seed():
     y0 = sim.model.rest_positions[0, 1]
     assert a[:, 1].mean() < y0 - 1e-3  # the drops pushed the sheet down
     assert sim.step.frame_effects[0].drops > 5
-    assert sim.stats()["finite"]
+    assert sim.stats().finite
 
 
 def test_drop_count_is_poisson_with_the_rate():

@@ -51,14 +51,14 @@ def test_sheet_settles_on_a_torus_without_entering_it(torus_stl):
     s = mesh_scene(torus_stl, center=center, rotation=[90.0, 0.0, 0.0])
     sim = run(Simulation(s), 240)
     st = sim.stats()
-    assert st["finite"] and st["recoveries"] == 0
-    assert "collide_mesh" in st["effects"]
-    assert st["penetration"] <= THICKNESS + 1e-3
+    assert st.finite and st.recoveries == 0
+    assert "collide_mesh" in st.effects
+    assert st.penetration <= THICKNESS + 1e-3
     d = torus_distance(sim.state.x, center)
     assert d.min() > -1e-3  # against the true torus, not only the grid
     resting = d < THICKNESS + 3e-3
     assert resting.sum() > 20  # the sheet lies on it (else the test proves nothing)
-    assert st["max_speed"] < 0.2  # and has settled
+    assert st.max_speed < 0.2  # and has settled
 
 
 def test_rotation_turns_the_mesh(torus_stl):
@@ -83,8 +83,8 @@ def test_a_sphere_mesh_holds_the_sheet_where_the_analytic_sphere_does(sphere_stl
     analytic.objects = [SceneObject(type="sphere", center=list(center), radius=0.25)]
     a = run(Simulation(analytic.with_values({})), 60)
     m = run(Simulation(mesh_scene(sphere_stl, center=list(center))), 60)
-    assert m.stats()["effects"] == [e if e != "collide_sphere" else "collide_mesh"
-                                    for e in a.stats()["effects"]]
+    assert list(m.stats().effects) == [e if e != "collide_sphere" else "collide_mesh"
+                                    for e in a.stats().effects]
     ra = np.linalg.norm(a.state.x - center, axis=1)
     rm = np.linalg.norm(m.state.x - center, axis=1)
     resting = (ra < 0.25 + THICKNESS + 1e-3) & (rm < 0.25 + THICKNESS + 1e-3)

@@ -36,13 +36,13 @@ def test_an_energy_tolerance_of_10_percent_over_2_s_keeps_a_swing_within_it(solv
     fixed, _, sim = swing(behavior__solver=solver, behavior__adaptive=False,
                           behavior__energy_tolerance=0.05)
     assert fixed > 0.2  # without adaptive the tolerance is reported, not met
-    assert sim.numerical_damping > 0.05 and sim.stats()["tolerance_met"] is False
+    assert sim.numerical_damping > 0.05 and sim.stats().tolerance_met is False
     lost, substeps, sim = swing(behavior__solver=solver, behavior__energy_tolerance=0.05)
     assert abs(lost) <= 0.10, (lost, substeps)
     mean = sum(substeps) / len(substeps)
     assert 4 * 4 < mean <= 128, mean  # the work it took, reported per frame
     st = sim.stats()
-    assert st["energy_tolerance"] == 0.05 and st["substeps_used"] == sim.step.substeps
+    assert st.energy_tolerance == 0.05 and st.substeps_used == sim.step.substeps
 
 
 def test_the_damping_a_key_asks_for_is_not_numerical():
@@ -57,12 +57,12 @@ def test_the_damping_a_key_asks_for_is_not_numerical():
 
 
 def test_numerical_damping_is_none_where_energy_comes_in_or_goes_out_by_contact():
-    assert swing(30, forces__wind=True)[2].stats()["numerical_damping"] is None
+    assert swing(30, forces__wind=True)[2].stats().numerical_damping is None
     # a free sheet lying on the floor: every frame touches it (friction and contacts)
     on_floor = Simulation(scene(cloth__pinned="none", cloth__height=0.01))
     for _ in range(30):
         on_floor.advance_frame()
-    assert on_floor.stats()["numerical_damping"] is None
+    assert on_floor.stats().numerical_damping is None
 
 
 def test_simulate_json_and_stats_report_error_stretch_and_numerical_damping_apart():
@@ -70,6 +70,6 @@ def test_simulate_json_and_stats_report_error_stretch_and_numerical_damping_apar
     st = sim.stats()
     for k in ("error", "max_stretch", "numerical_damping", "error_tolerance",
               "energy_tolerance", "solver"):
-        assert k in st, k
-    assert st["error"] == pytest.approx(st["max_stretch"])  # pbd: the error is the stretch
-    assert st["energy_tolerance"] is None  # 0: unbounded
+        assert k in st.as_dict(), k
+    assert st.error == pytest.approx(st.max_stretch)  # pbd: the error is the stretch
+    assert st.energy_tolerance is None  # 0: unbounded

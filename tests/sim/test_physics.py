@@ -27,7 +27,7 @@ def test_corner_pinned_sheet_rests_with_pins_in_place():
         sim.advance_frame()
     m = sim.model
     np.testing.assert_array_equal(sim.state.x[m.pinned], m.rest_positions[m.pinned])
-    assert sim.stats()["max_speed"] < 0.05
+    assert sim.stats().max_speed < 0.05
 
 
 def test_more_iterations_give_less_stretch():
@@ -37,7 +37,7 @@ def test_more_iterations_give_less_stretch():
                                behavior__adaptive=False, behavior__tethers=False))
         for _ in range(120):
             sim.advance_frame()
-        results.append(sim.stats()["mean_stretch"])
+        results.append(sim.stats().mean_stretch)
     assert results[0] > results[1] > results[2]
 
 
@@ -46,7 +46,7 @@ def test_no_particle_below_floor():
     for _ in range(240):
         sim.advance_frame()
         assert sim.state.x[:, 1].min() >= sim.scene.scene.floor_height
-    assert sim.stats()["penetration"] == 0.0
+    assert sim.stats().penetration == 0.0
 
 
 def test_pipeline_lists_only_enabled_effects():
@@ -119,4 +119,4 @@ def test_tethers_bound_distance_to_nearest_pin_and_cut_stretch():
     # The constraints run after the tethers, so a tether may be exceeded a little, never by
     # more than two grid spacings (untethered, the sheet sags many spacings from its pins).
     assert np.all(d <= m.tether_length[free] + 2 * m.spacing)
-    assert tethered.stats()["max_stretch"] < 0.5 * plain.stats()["max_stretch"]
+    assert tethered.stats().max_stretch < 0.5 * plain.stats().max_stretch

@@ -66,7 +66,7 @@ def test_a_moving_group_follows_its_keys(solver):
         assert np.allclose(sim.state.x[right], rest + offset, atol=1e-9), t
     left = np.arange(N) * N
     assert np.allclose(sim.state.x[left], sim.model.rest_positions[left])  # the other group
-    assert sim.stats()["recoveries"] == 0
+    assert sim.stats().recoveries == 0
 
 
 @pytest.mark.parametrize("substeps, iterations", [(4, 4), (16, 4), (4, 20)])

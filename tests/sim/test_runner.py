@@ -25,12 +25,12 @@ def test_adaptive_substeps_meet_the_tolerance_a_fixed_count_misses():
     for _ in range(30):
         adaptive.advance_frame()
         assert adaptive.frame_error <= 0.05  # pbd: the error is the stretch
-        assert adaptive.stats()["max_stretch"] <= 0.05
+        assert adaptive.stats().max_stretch <= 0.05
     st, sf = adaptive.stats(), fixed.stats()
-    assert sf["max_stretch"] > 0.5 and sf["tolerance_met"] is False
-    assert st["tolerance_met"] is True and st["error_tolerance"] == 0.05
-    assert 1 < st["substeps_used"] <= adaptive.scene.behavior.max_substeps
-    assert fixed.stats()["substeps_used"] == 1
+    assert sf.max_stretch > 0.5 and sf.tolerance_met is False
+    assert st.tolerance_met is True and st.error_tolerance == 0.05
+    assert 1 < st.substeps_used <= adaptive.scene.behavior.max_substeps
+    assert fixed.stats().substeps_used == 1
     # the work counts the redone frames too: more substeps ran than the accepted ones
     assert adaptive.substeps_run > adaptive.state.steps
     assert fixed.substeps_run == fixed.state.steps == 30
@@ -45,7 +45,7 @@ def test_adaptive_substeps_come_back_down_when_there_is_slack():
     raised = sim.step.substeps
     assert raised > 4
     run(sim, 400)
-    assert sim.step.substeps == 4 and sim.stats()["tolerance_met"]
+    assert sim.step.substeps == 4 and sim.stats().tolerance_met
 
 
 def test_at_the_cap_the_run_goes_on_and_says_the_tolerance_is_not_met():
@@ -53,18 +53,18 @@ def test_at_the_cap_the_run_goes_on_and_says_the_tolerance_is_not_met():
                            behavior__iterations=1, behavior__max_substeps=2))
     run(sim, 20)
     st = sim.stats()
-    assert st["substeps_used"] == 2 and st["tolerance_met"] is False
-    assert st["frames"] == 20 and not st["halted"] and st["finite"]
+    assert st.substeps_used == 2 and st.tolerance_met is False
+    assert st.frames == 20 and not st.halted and st.finite
 
 
 def test_springs_keep_their_substeps_and_have_no_solve_error_to_bound():
     # A spring's stretch is its material's (k), which no substep count changes.
     sim = run(Simulation(scene(behavior__solver="springs", behavior__stiffness=50.0)), 30)
     st = sim.stats()
-    assert st["substeps_used"] == 4 and st["max_stretch"] > 0.05
+    assert st.substeps_used == 4 and st.max_stretch > 0.05
     # no constraint solve, so no solve error to bound: the stretch is the fabric's
-    assert st["error"] is None and st["error_tolerance"] is None
-    assert st["tolerance_met"] is None
+    assert st.error is None and st.error_tolerance is None
+    assert st.tolerance_met is None
 
 
 # --- the guard -----------------------------------------------------------------------------
@@ -72,8 +72,8 @@ def test_springs_keep_their_substeps_and_have_no_solve_error_to_bound():
 def test_springs_get_a_stable_integrator_by_default():
     sim = run(Simulation(scene(behavior__solver="springs")), 120)
     st = sim.stats()
-    assert "integrate_implicit_euler" in st["effects"]
-    assert st["recoveries"] == 0 and not st["halted"] and st["max_speed"] < 1.0
+    assert "integrate_implicit_euler" in st.effects
+    assert st.recoveries == 0 and not st.halted and st.max_speed < 1.0
 
 
 def test_energy_from_nowhere_halts_an_unstable_springs_run_with_a_reason():
@@ -81,8 +81,8 @@ def test_energy_from_nowhere_halts_an_unstable_springs_run_with_a_reason():
     # speed and stretch checks (before: 0.49 J → 341 J, no halt). Energy growth shows it.
     sim = run(Simulation(scene(behavior__solver="springs", behavior__integrator="verlet")), 60)
     st = sim.stats()
-    assert st["halted"] and "implicit_euler" in st["halted"]
-    assert st["energy"] < 1.0 and st["finite"]
+    assert st.halted and "implicit_euler" in st.halted
+    assert st.energy < 1.0 and st.finite
 
 
 # --- counters belong to the run ------------------------------------------------------------
@@ -100,8 +100,8 @@ def broken_run() -> Simulation:
 
 def assert_fresh(sim: Simulation) -> None:
     st = sim.stats()
-    assert st["recoveries"] == 0 and st["halted"] is None and st["penetration"] == 0.0
-    assert st["frames"] == 0 and st["steps"] == 0 and st["wall_s"] == 0.0
+    assert st.recoveries == 0 and st.halted is None and st.penetration == 0.0
+    assert st.frames == 0 and st.steps == 0 and st.wall_s == 0.0
 
 
 def test_reset_starts_every_counter_again():
@@ -130,9 +130,9 @@ def test_new_settings_clear_the_recoveries_and_halt_of_the_old():
     frames = sim.frames
     assert sim.set_scene(sim.scene.with_value("behavior.integrator", "implicit_euler")) is False
     st = sim.stats()
-    assert st["recoveries"] == 0 and st["halted"] is None and st["frames"] == frames
+    assert st.recoveries == 0 and st.halted is None and st.frames == frames
     run(sim, 10)
-    assert not sim.halted and sim.stats()["frames"] == frames + 10
+    assert not sim.halted and sim.stats().frames == frames + 10
 
 
 # --- energy ----------------------------------------------------------------------------------
@@ -142,11 +142,11 @@ def energy_drift(solver: str) -> float:
     sim = Simulation(scene(behavior__solver=solver, behavior__damping=0.0,
                            behavior__spring_damping=0.0, cloth__pinned="one_edge",
                            cloth__resolution=12, scene__floor=False))
-    e0 = sim.stats()["energy"]
+    e0 = sim.stats().energy
     run(sim, 120)
     st = sim.stats()
-    assert st["finite"] and not st["halted"]
-    return (st["energy"] - e0) / (0.2 * 9.81 * 1.0)
+    assert st.finite and not st.halted
+    return (st.energy - e0) / (0.2 * 9.81 * 1.0)
 
 
 def test_xpbd_energy_drift_is_physical():
@@ -162,10 +162,10 @@ def test_xpbd_energy_drift_is_physical():
 def test_xpbd_reports_its_solve_error_apart_from_its_stretch():
     sim = run(Simulation(scene(behavior__solver="xpbd", cloth__resolution=12)), 30)
     st = sim.stats()
-    assert st["error"] is not None and 0.0 < st["error"] < 0.05
-    assert st["max_stretch"] > 0.0
+    assert st.error is not None and 0.0 < st.error < 0.05
+    assert st.max_stretch > 0.0
     springs = run(Simulation(scene(behavior__solver="springs", cloth__resolution=12)), 2)
-    assert springs.stats()["error"] is None  # no constraint solve to be off equilibrium
+    assert springs.stats().error is None  # no constraint solve to be off equilibrium
 
 
 # --- statistics at the rate they are shown ----------------------------------------------------
@@ -186,15 +186,15 @@ def test_thread_computes_full_statistics_only_every_interval(monkeypatch):
     assert len(published) == 60
     assert len(calls) == pytest.approx(1.0 / sim_thread.STATS_INTERVAL, abs=1)
     # every snapshot carries this frame's own cheap numbers...
-    assert [s.stats["frames"] for s in published] == list(range(1, 61))
+    assert [s.stats.frames for s in published] == list(range(1, 61))
     assert [s.frame for s in published] == list(range(1, 61))
     # ...and the full ones from at most STATS_INTERVAL ago
-    energies = [s.stats["energy"] for s in published]
+    energies = [s.stats.energy for s in published]
     assert 3 <= len(set(energies)) <= 7
     # a command (reset, new settings) gets fresh statistics at once
     thread.sim.reset()
     thread._publish(full=True)
-    assert published[-1].stats["frames"] == 0 and len(calls) == len(set(energies)) + 1
+    assert published[-1].stats.frames == 0 and len(calls) == len(set(energies)) + 1
 
 
 def test_on_frame_sees_every_frame_and_slow_frames_are_each_published(monkeypatch):
@@ -257,9 +257,9 @@ def test_simulate_summary_is_exact():
     x = sim.state.x
     e = sim.model.edges
     lengths = np.linalg.norm(x[e[:, 0]] - x[e[:, 1]], axis=1)
-    assert st["max_stretch"] == pytest.approx(np.max(np.abs(lengths / sim.model.rest_length
+    assert st.max_stretch == pytest.approx(np.max(np.abs(lengths / sim.model.rest_length
                                                             - 1)))
-    assert st["frames"] == 7
+    assert st.frames == 7
 
 
 def test_a_soft_implicit_sheet_stretches_without_a_halt():
@@ -273,8 +273,8 @@ def test_a_soft_implicit_sheet_stretches_without_a_halt():
     for _ in range(120):
         sim.advance_frame()
     s = sim.stats()
-    assert s["halted"] is None and s["recoveries"] == 0 and s["finite"]
-    assert s["max_stretch"] > 1.0  # the case the old stretch rule mistook for divergence
+    assert s.halted is None and s.recoveries == 0 and s.finite
+    assert s.max_stretch > 1.0  # the case the old stretch rule mistook for divergence
 
 
 @pytest.mark.parametrize("integrator", ["rk4", "midpoint"])
@@ -290,8 +290,8 @@ def test_a_load_that_stretches_explicit_springs_past_twice_their_length_is_not_a
     for _ in range(60):
         sim.advance_frame()
     s = sim.stats()
-    assert s["halted"] is None and s["finite"]
-    assert s["max_stretch"] > runner.SPRING_DIVERGED  # what the old rule called divergence
+    assert s.halted is None and s.finite
+    assert s.max_stretch > runner.SPRING_DIVERGED  # what the old rule called divergence
 
 
 def test_an_unstable_explicit_step_is_still_caught_with_an_energy_source_on():
@@ -306,8 +306,8 @@ def test_an_unstable_explicit_step_is_still_caught_with_an_energy_source_on():
     for _ in range(20):
         sim.advance_frame()
     s = sim.stats()
-    assert s["recoveries"] > 0 or s["halted"]
-    assert s["finite"] and (s["halted"] or s["max_stretch"] < runner.SPRING_DIVERGED)
+    assert s.recoveries > 0 or s.halted
+    assert s.finite and (s.halted or s.max_stretch < runner.SPRING_DIVERGED)
 
 
 def test_halt_advice_names_only_what_fits_the_solver():

@@ -32,7 +32,7 @@ def test_position_based_runs_at_extreme_settings_never_halt(solver, mass, frame_
     s.objects = []
     sim = run(Simulation(s), 4)
     st_ = sim.stats()
-    assert st_["halted"] is None and st_["finite"], st_["halted"]
+    assert st_.halted is None and st_.finite, st_.halted
     free = sim.model.inv_mass > 0
     speeds = np.linalg.norm(sim.state.v[free], axis=1)
     assert speeds.max() <= max_speed * (1 + 1e-9)

@@ -132,7 +132,7 @@ def test_folded_sheet_does_not_pass_through_itself_with_the_hash():
     top = sim.state.x[(n // 2) * n:, 1].mean()
     bottom = sim.state.x[: (n // 2) * n, 1].mean()
     assert top > bottom + 0.5 * spacing  # the top layer still lies on the bottom one
-    assert sim.stats()["finite"]
+    assert sim.stats().finite
     # control: without self-collision the top layer falls into the bottom one
     off = folded_sheet("off", n)
     for _ in range(120):
@@ -147,7 +147,7 @@ def test_hanging_sheet_piling_on_the_floor_keeps_apart():
     for _ in range(150):
         sim.advance_frame()
     assert closest_unrelated(sim.state.x, n) > sim.model.spacing / 3
-    assert sim.stats()["penetration"] <= sim.scene.scene.thickness + 1e-3
+    assert sim.stats().penetration <= sim.scene.scene.thickness + 1e-3
 
 
 def sheet_with_contacts(n):

@@ -30,7 +30,7 @@ def run(scene: Scene, frames: int = 40) -> Simulation:
     sim.peak_stretch = 0.0
     for _ in range(frames):
         sim.advance_frame()
-        sim.peak_stretch = max(sim.peak_stretch, sim.stats()["max_stretch"])
+        sim.peak_stretch = max(sim.peak_stretch, sim.stats().max_stretch)
     return sim
 
 
@@ -42,11 +42,11 @@ def run(scene: Scene, frames: int = 40) -> Simulation:
 def test_a_sheet_pulled_beyond_tear_stretch_tears_and_stays_finite(solver, g, extra):
     sim = run(pulled(True, solver, g, **extra))
     st = sim.stats()
-    assert st["torn"] > 0 and st["finite"] and np.isfinite(st["energy"])
-    assert st["torn"] == int((sim.state.alive == 0).sum())
+    assert st.torn > 0 and st.finite and np.isfinite(st.energy)
+    assert st.torn == int((sim.state.alive == 0).sum())
     # what is left intact is held at no more than the tear stretch (measures skip the torn)
-    assert st["max_stretch"] <= sim.scene.behavior.tear_stretch
-    assert "tear_constraints" in st["effects"]
+    assert st.max_stretch <= sim.scene.behavior.tear_stretch
+    assert "tear_constraints" in st.effects
 
 
 @pytest.mark.parametrize("solver, g, extra", [
@@ -57,11 +57,11 @@ def test_a_sheet_pulled_beyond_tear_stretch_tears_and_stays_finite(solver, g, ex
 def test_the_same_pull_without_tear_does_not_tear(solver, g, extra):
     sim = run(pulled(False, solver, g, **extra))
     st = sim.stats()
-    assert st["torn"] == 0 and st["finite"]
+    assert st.torn == 0 and st.finite
     assert bool(sim.state.alive.all())
     if solver != "springs":  # (springs exceed it between frames, where stats do not look)
         assert sim.peak_stretch > sim.scene.behavior.tear_stretch  # it would have torn
-    assert "tear_constraints" not in st["effects"]
+    assert "tear_constraints" not in st.effects
 
 
 def test_torn_constraints_leave_every_solver():
@@ -123,9 +123,9 @@ def test_a_cut_breaks_the_constraints_it_crosses_and_restart_heals():
     tri = tearing.intact_triangles(sim.model, sim.state.alive)
     assert len(tri) == len(sim.model.triangles) - 2 * (n - 1)
     sim.advance_frame()
-    assert sim.stats()["torn"] == cut and sim.snapshot().alive is not None
+    assert sim.stats().torn == cut and sim.snapshot().alive is not None
     sim.reset()
-    assert sim.stats()["torn"] == 0 and sim.state.alive.all()
+    assert sim.stats().torn == 0 and sim.state.alive.all()
     assert sim.snapshot().alive is None
 
 
@@ -186,10 +186,10 @@ def test_a_torn_sheet_still_collides_with_objects_and_itself():
     s.behavior.self_collision = "hash"
     sim = run(s, frames=60)
     st = sim.stats()
-    assert st["torn"] > 0 and st["finite"]
-    assert "collide_sphere" in st["effects"] and "self_collision_hash" in st["effects"]
-    assert st["penetration"] <= s.scene.thickness + 1e-3
-    assert st["min_y"] >= s.scene.floor_height - 1e-3
+    assert st.torn > 0 and st.finite
+    assert "collide_sphere" in st.effects and "self_collision_hash" in st.effects
+    assert st.penetration <= s.scene.thickness + 1e-3
+    assert st.min_y >= s.scene.floor_height - 1e-3
     assert sim.model.mass.sum() == pytest.approx(s.cloth.mass)
 
 

@@ -10,13 +10,15 @@ from pathlib import Path
 
 import numpy as np
 
+from cloth_tui.sim.run_stats import RunStats
+
 
 @dataclass
 class Frame:
     image: np.ndarray
     frame: int
     render_ms: float
-    sim_stats: dict = field(default_factory=dict)
+    sim_stats: RunStats = field(default_factory=RunStats)
 
 
 @dataclass

@@ -11,7 +11,7 @@ from .conftest import SIZE, make_app, run, until
 
 
 def torn(app) -> int:
-    return app.sim.latest.stats.get("torn", 0)
+    return app.sim.latest.stats.torn
 
 
 async def settled(pilot, read, interval: float = 0.3, timeout: float = 10.0):

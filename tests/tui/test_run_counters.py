@@ -23,15 +23,15 @@ def test_recoveries_are_not_shown_after_the_run_that_had_them(tmp_path):
         async with app.run_test(size=SIZE) as pilot:
             async def recovered() -> None:
                 app.sim.submit(diverge)
-                await until(pilot, lambda: app.readout.stats.get("recoveries", 0) > 0,
+                await until(pilot, lambda: app.readout.stats.recoveries > 0,
                             what="a recovery in the status")
                 app._refresh_status()
                 await pilot.pause()
                 assert "recoveries" in status_text(app)
 
             async def shown_clean(what: str) -> None:
-                await until(pilot, lambda: app.readout.stats.get("recoveries") == 0
-                            and app.readout.stats.get("frames") == 0, what=what)
+                await until(pilot, lambda: app.readout.stats.recoveries == 0
+                            and app.readout.stats.frames == 0, what=what)
                 app._refresh_status()
                 await pilot.pause()
                 assert "recoveries" not in status_text(app)

@@ -3,19 +3,21 @@
 with its unit, the material or solver and the tolerance's cost, the numerical damping, tears); and
 notices never cover it."""
 
+import dataclasses
 import re
 
 import pytest
 from rich.text import Text
 
+from cloth_tui.sim.run_stats import RunStats
 from cloth_tui.tui.status import SPARK_AT_LEAST, RateMeter, Readout, cells
 
 from .conftest import make_app, run, until
 
-XPBD_STATS = {"energy": 0.446, "particles": 676, "frame_ms": 19.1, "step_ms": 1.736,
+XPBD_STATS = RunStats(**{"energy": 0.446, "particles": 676, "frame_ms": 19.1, "step_ms": 1.736,
               "substeps_used": 11, "max_stretch": 0.0075, "mean_stretch": 0.0017,
               "solver": "xpbd", "error_tolerance": 0.01, "tolerance_met": True,
-              "numerical_damping": 0.031, "torn": 3}
+              "numerical_damping": 0.031, "torn": 3})
 ALWAYS = ("sim 57 fps", "view 57 fps (blocks 256)", "676 particles", "0.75%",
           "-0.045 J", "xpbd · err", "1 % → 11 sub", "19.1 ms", "damping 3.1 %/s",
           "3 torn")
@@ -26,7 +28,7 @@ def readout(monkeypatch):
     monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 57.0)
     r = Readout()
     r.graphics = "blocks 256"
-    r.on_snapshot(0, dict(XPBD_STATS, energy=0.491))
+    r.on_snapshot(0, dataclasses.replace(XPBD_STATS, energy=0.491))
     r.on_snapshot(1, XPBD_STATS)
     r.render_ms = 112.2
     return r

@@ -4,6 +4,7 @@ import numpy as np
 
 from cloth_tui.tui.panels import format_value, parse_text
 from cloth_tui.tui.preview import CROSSHAIR, HALF, StyleCache, image_to_strips, resample
+from cloth_tui.sim.run_stats import RunStats
 from cloth_tui.tui.status import RateMeter, Readout
 
 
@@ -35,31 +36,31 @@ def test_rate_meter_and_readout():
     assert abs(m.rate(now=1.0) - 30.0) < 1e-9
     assert m.rate(now=5.0) == 0.0  # nothing new for longer than the window
     r = Readout()
-    r.on_snapshot(0, {"energy": 1.0, "particles": 4, "frame_ms": 2.0, "step_ms": 1.0})
-    r.on_snapshot(1, {"energy": 0.75, "particles": 4, "frame_ms": 6.0, "step_ms": 3.0,
-                      "substeps_used": 2})
+    r.on_snapshot(0, RunStats(**{"energy": 1.0, "particles": 4, "frame_ms": 2.0, "step_ms": 1.0}))
+    r.on_snapshot(1, RunStats(**{"energy": 0.75, "particles": 4, "frame_ms": 6.0, "step_ms": 3.0,
+                      "substeps_used": 2}))
     assert r.drift == -0.25 and r.step_ms == 3.0 and r.frame_ms == 6.0
     state, cost = r.text(paused=False, recording=True, iterations=4, substeps=2)
     assert "REC" in state and "4 particles" in state and "4 iterations × 2 substeps" in cost
     assert "6.00" in cost and "ms/frame" in cost
-    r.on_snapshot(2, {"energy": 0.7, "substeps_used": 8, "halted": "diverges"})
+    r.on_snapshot(2, RunStats(**{"energy": 0.7, "substeps_used": 8, "halted": "diverges"}))
     state, cost = r.text(paused=False, recording=False, iterations=4, substeps=2)
     assert "HALTED" in state and "2 (now 8) substeps" in cost
-    r.on_snapshot(0, {"energy": 2.0})  # frame went back: a restart
+    r.on_snapshot(0, RunStats(**{"energy": 2.0}))  # frame went back: a restart
     assert r.drift == 0.0
 
 
 def test_readout_names_the_material_and_shows_what_the_tolerance_costs():
     r = Readout()
-    r.on_snapshot(1, {"material": "denim", "solver": "xpbd", "error_tolerance": 0.005,
+    r.on_snapshot(1, RunStats(**{"material": "denim", "solver": "xpbd", "error_tolerance": 0.005,
                       "substeps_used": 9, "frame_ms": 4.1, "tolerance_met": True,
-                      "numerical_damping": 2e-4})
+                      "numerical_damping": 2e-4}))
     state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
     assert "denim · error 0.5 % → 9 substeps, 4.1 ms/frame" in cost
     assert "NOT MET" not in cost and "damping" not in state  # too little to show
-    r.on_snapshot(2, {"solver": "pbd", "error_tolerance": 0.05, "energy_tolerance": 0.05,
+    r.on_snapshot(2, RunStats(**{"solver": "pbd", "error_tolerance": 0.05, "energy_tolerance": 0.05,
                       "substeps_used": 128, "frame_ms": 40.0, "tolerance_met": False,
-                      "numerical_damping": 0.123})
+                      "numerical_damping": 0.123}))
     state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
     assert ("[b black on yellow] pbd · error 5 %, damping 5 %/s → 128 substeps, 40.0 "
             "ms/frame: NOT MET [/]") in cost
@@ -71,8 +72,8 @@ def test_compact_readout_fits_80_columns_with_fps_stretch_and_energy(monkeypatch
     monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 999.0)  # 3 digits
     r = Readout()
     for frame, e in ((0, 123.456), (1, -99.999)):
-        r.on_snapshot(frame, {"energy": e, "max_stretch": 0.1234, "frame_ms": 123.4,
-                              "step_ms": 12.345, "substeps_used": 128})
+        r.on_snapshot(frame, RunStats(**{"energy": e, "max_stretch": 0.1234, "frame_ms": 123.4,
+                              "step_ms": 12.345, "substeps_used": 128}))
     r.render_ms = 999.9
     for recording, paused in ((False, False), (False, True), (True, True)):
         state, cost = r.text(paused=paused, recording=recording, iterations=64, substeps=128,

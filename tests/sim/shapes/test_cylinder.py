@@ -68,7 +68,7 @@ def test_a_sheet_dropped_on_a_post_rests_on_its_top_and_hangs_around_it():
                              height=0.4, axis=[0.0, 1.0, 0.0])]
     sim = run(Simulation(s), 90)
     st = sim.stats()
-    assert st["finite"] and st["penetration"] <= s.scene.thickness + 1e-3
+    assert st.finite and st.penetration <= s.scene.thickness + 1e-3
     x = sim.state.x
     top = 0.1 + s.scene.thickness
     on_top = np.hypot(x[:, 0], x[:, 2]) < 0.1
