@@ -112,13 +112,15 @@ def structure(scene: Scene) -> Scene:
         sections.setdefault(section, {})[name] = decides(getattr(getattr(scene, section), name))
     out = dataclasses.replace(scene, **{s: dataclasses.replace(getattr(scene, s), **values)
                                         for s, values in sections.items()})
-    if scene.material is not None:
+    m = None if scene.material is None else scene.material.material
+    if m is not None and not (scene.behavior.tear and m.tear_strength is not None):
         # Its numbers are α per constraint and masses (model.refitted); what constraints
-        # there are depends only on whether it has a bending rigidity.
-        m = scene.material.material
+        # there are depends only on whether it has a bending rigidity. Tearing by strength
+        # is built from the strength and the stretch (its stage, the substeps' tolerance),
+        # so there every number stays part of the structure.
         numbers = dataclasses.replace(m, areal_density=0.0, stretch_warp=0.0, stretch_weft=0.0,
                                       shear=0.0, bending=float(m.bending > 0), damping=0.0,
-                                      tear_strength=None, preset="")
+                                      preset="")
         out.material = dataclasses.replace(scene.material, table={}, material=numbers)
     return out
 

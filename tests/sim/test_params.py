@@ -96,6 +96,18 @@ def test_a_material_gaining_bending_rebuilds_the_step():
     assert sim.step is not step and sim.model.fabric.num_stencils > 0
 
 
+def test_a_sheet_that_tears_by_strength_rebuilds_for_its_material_numbers():
+    """Its tearing stage and the substeps' tolerance are made from the strength and the
+    stretch."""
+    base = scene(behavior__solver="xpbd", behavior__tear=True, material__preset="denim",
+                 material__tear_strength=300.0)
+    assert not same_structure(base, base.with_value("material.tear_strength", 400.0))
+    assert not same_structure(base, base.with_value("material.stretch", 900.0))
+    assert same_structure(base, base.with_value("forces.gravity_strength", 5.0))
+    no_tear = base.with_value("behavior.tear", False)
+    assert same_structure(no_tear, no_tear.with_value("material.stretch", 900.0))
+
+
 @pytest.mark.parametrize("key, a, b, same", [
     ("forces.wind_strength", 3.0, 5.0, True),
     ("forces.wind_strength", 0.0, 5.0, False),    # a wind stage appears
