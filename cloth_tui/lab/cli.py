@@ -23,6 +23,7 @@ EXTRA_COLUMNS = {
     "runs": ("runs", "d"),
     "folds": ("folds", "d"),
     "shadow_cm2": ("shadow (cm²)", ".1f"),
+    "settled_s": ("settled (s)", ".2f"),
 }
 
 
@@ -145,14 +146,16 @@ def format_report(r: dict) -> str:
 
 def plot_convergence(r: dict, path: Path) -> None:
     """|error| against resolution and against wall time, log-log, one line per case; the
-    bound as a dashed line and an h² slope for reference."""
+    bound as a dashed line and an h² slope for reference. A report (no expected values)
+    plots its measured values instead."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..util import atomic_write
-
     fig, (by_n, by_wall) = plt.subplots(1, 2, figsize=(10, 4.5), dpi=110)
+    if all(case["expected"] is None for case in r["cases"]):
+        _plot_report(r, by_n, by_wall)
+        return _save(fig, r, path)
     for case in r["cases"]:
         pts = [p for p in case["points"] if p["error"] not in (None, 0.0)
                and math.isfinite(p["error"])]
@@ -181,6 +184,34 @@ def plot_convergence(r: dict, path: Path) -> None:
     by_n.set_xlabel(f"N ({r['resolution_meaning']})")
     by_wall.set_xlabel("wall time of the run (s)")
     by_n.legend(fontsize=7)
+    _save(fig, r, path)
+
+
+def _plot_report(r: dict, by_n, by_wall) -> None:
+    """The measured value of each case against resolution and wall time."""
+    for case in r["cases"]:
+        pts = [p for p in case["points"] if math.isfinite(p["measured"])]
+        by_n.plot([p["resolution"] for p in pts], [p["measured"] for p in pts], "o-",
+                  label=case["label"])
+        by_wall.plot([p["wall_s"] for p in pts], [p["measured"] for p in pts], "o-")
+    ns = sorted({p["resolution"] for c in r["cases"] for p in c["points"]})
+    for ax in (by_n, by_wall):
+        ax.set_xscale("log")
+        ax.grid(True, which="both", alpha=0.25)
+        ax.set_ylabel(r["quantity"])
+    if ns:
+        by_n.set_xticks(ns, [str(n) for n in ns])
+        by_n.minorticks_off()
+    by_n.set_xlabel(f"N ({r['resolution_meaning']})")
+    by_wall.set_xlabel("wall time of the run (s)")
+    by_n.legend(fontsize=7)
+
+
+def _save(fig, r: dict, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    from ..util import atomic_write
+
     material = f" · {r['material']['preset']}" if r["material"] else ""
     fig.suptitle(f"cloth-tui lab {r['test']}{material}", fontsize=10)
     fig.tight_layout()

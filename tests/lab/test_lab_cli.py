@@ -43,6 +43,26 @@ def test_a_run_prints_json_and_draws(tmp_path, capsys):
     assert out.stat().st_size > 0
 
 
+@pytest.mark.parametrize("argv, cases", [
+    (["lab", "cantilever", "--resolutions", "4"], 3),
+    (["lab", "peirce", "--material", "denim", "--resolutions", "4"], 1),
+    (["lab", "drape", "--material", "denim", "--resolutions", "11"], 1),
+])
+def test_the_bending_tests_run_from_the_command_line(argv, cases, tmp_path, capsys):
+    out = tmp_path / "lab.png"
+    assert main([*argv, "--json", "--plot", str(out)]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert len(r["cases"]) == cases and r["test"] == argv[1]
+    for case in r["cases"]:
+        (point,) = case["points"]
+        assert point["resolution"] == int(argv[-1]) and point["wall_s"] > 0
+        if case["expected"] is not None:
+            assert abs(point["error"]) < 0.05  # even at 4 links
+        else:
+            assert 0 < point["measured"] < 1
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 @pytest.mark.parametrize("argv, says", [
     (["lab", "drap"], "'drap' is not a lab test; the tests are catenary"),
     (["lab", "catenary", "--resolutions", "8,a"], "'a' is not an integer"),
