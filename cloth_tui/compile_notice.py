@@ -5,6 +5,7 @@ loaded from the cache sends none), so a run that loads them all says nothing."""
 
 from __future__ import annotations
 
+import threading
 import time
 from typing import TextIO
 
@@ -73,3 +74,74 @@ class CompileNotice:
     def _write(self, text: str) -> None:
         self.stream.write(text)
         self.stream.flush()
+
+
+class CompileWatch:
+    """For the app, where no stream can be written: counts the kernels numba compiles on any
+    thread (the simulation's and the renderer's each compile their own on a first run) so the
+    status line can say so. `with CompileWatch() as watch:` around the app's life;
+    `describe()` is the status line's words while compiling, else ""."""
+
+    LINGER_S = 2.0  # said this long after a kernel is done, so the gaps between kernels
+    # (numba compiles one at a time) do not make the words flicker
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._depth: dict[int, int] = {}  # per thread: nested compilations open
+        self.compiled = 0
+        self._started: float | None = None
+        self._last_end = 0.0
+        self._listener = None
+
+    def __enter__(self) -> "CompileWatch":
+        from numba.core import event
+
+        watch = self
+
+        class Listener(event.Listener):
+            def on_start(self, _):
+                watch._on_start()
+
+            def on_end(self, _):
+                watch._on_end()
+
+        self._listener = Listener()
+        event.register("numba:compile", self._listener)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        """Safe to call twice, or without __enter__ (an app that never mounted)."""
+        if self._listener is None:
+            return
+        from numba.core import event
+
+        event.unregister("numba:compile", self._listener)
+        self._listener = None
+
+    def _on_start(self) -> None:
+        with self._lock:
+            key = threading.get_ident()
+            self._depth[key] = self._depth.get(key, 0) + 1
+            if self._started is None:
+                self._started = time.monotonic()
+
+    def _on_end(self) -> None:
+        with self._lock:
+            key = threading.get_ident()
+            self._depth[key] = self._depth.get(key, 1) - 1
+            if self._depth[key] <= 0:
+                del self._depth[key]
+                self.compiled += 1
+                self._last_end = time.monotonic()
+
+    def describe(self, now: float | None = None) -> str:
+        """"compiling kernels (first run only)… 12 compiled, 40 s" while kernels compile
+        (and LINGER_S after the last), else ""."""
+        now = time.monotonic() if now is None else now
+        with self._lock:
+            if self._started is None:
+                return ""
+            if not self._depth and now - self._last_end > self.LINGER_S:
+                return ""
+            return (f"compiling kernels (first run only)… {self.compiled} compiled, "
+                    f"{now - self._started:.0f} s")

@@ -74,3 +74,23 @@ def test_a_first_render_says_so_before_it_compiles(tmp_path):
     finally:
         run.kill()
         run.wait()
+
+
+def test_the_apps_watch_counts_kernels_compiled_on_any_thread_and_falls_silent():
+    import threading
+
+    from cloth_tui.compile_notice import CompileWatch
+
+    outer, inner = _fresh_kernels()
+    with CompileWatch() as watch:
+        assert watch.describe() == ""  # nothing compiled yet: nothing said
+        worker = threading.Thread(target=outer, args=(1.0,))  # as the simulation thread
+        worker.start()
+        worker.join()
+        said = watch.describe()
+        assert said.startswith("compiling kernels (first run only)… 1 compiled")
+        later = time.monotonic() + CompileWatch.LINGER_S + 0.1
+        assert watch.describe(now=later) == ""  # done: the status line goes back
+        outer(2.0)  # cached in the process: no event, still silent
+        assert watch.describe(now=later) == "" and watch.compiled == 1
+    watch.__exit__(None, None, None)  # a second exit (the app's shutdown) is harmless

@@ -24,6 +24,7 @@ from textual.containers import Horizontal
 from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
+from ..compile_notice import CompileWatch
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
@@ -108,6 +109,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         self._no_preview: str | None = None  # why there are no pictures, once known
         self.bake = BakeKey(self.captures_dir, self.notify, self.download)  # `e`: record to USD
         self.crash: Exception | None = None  # the first exception nothing caught
+        self._compiling = CompileWatch()  # a first run's kernels, told in the status line
         log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
         self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
 
@@ -150,6 +152,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
 
     def on_mount(self) -> None:
         self._end_on_signals()
+        self._compiling.__enter__()  # before either thread starts compiling
         try:
             self.renderer = self.renderer_factory(
                 scene=self.scene, size=(160, 90), captures_dir=self.captures_dir,
@@ -363,6 +366,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         recording = bool(self.renderer is not None and self.renderer.recording)
         paused = bool(self.sim is not None and self.sim.paused)
         marks = self.bake.status(("", ""))[0]  # "● USD 12 · " while baking
+        self.readout.compiling = self._compiling.describe()
         if self._no_preview is not None:
             marks += "[b white on red] no preview [/] · "
         for bar in self.query(StatusBar):  # none while the app is closing
@@ -377,6 +381,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         if self._stopped:
             return
         self._stopped = True
+        self._compiling.__exit__(None, None, None)
         t0 = time.perf_counter()
         if self.sim is not None:
             self.sim.stop(timeout=0.5)

@@ -64,6 +64,7 @@ class Readout:
         self.ms_history: deque[float] = deque([0.0] * history, maxlen=history)
         self.last_frame = -1
         self.graphics = ""  # how the preview draws: 'kitty', 'sixel', 'blocks 256'…
+        self.compiling = ""  # "compiling kernels (first run only)… 3 compiled, 9 s", or ""
 
     def restart(self) -> None:
         self.energy0 = None
@@ -143,10 +144,18 @@ class Readout:
                                   "[b white on red] HALTED [/]"), 8))
         sim, view = self.sim_rate.rate(), self.view_rate.rate()
         mode = f" ({self.graphics})" if self.graphics else ""
+        if self.compiling:  # a first run: the sim stands still for a minute, and says why
+            brief = self.compiling.replace(" (first run only)", "")
+            run = Part((f"[b yellow]{self.compiling}[/]", f"[b yellow]{brief}[/]",
+                        "[b yellow]compiling…[/]"), 9)
+        elif paused:
+            run = Part(("[b yellow]⏸ PAUSED[/]", "[b yellow]⏸[/]"), 3)
+        else:
+            run = Part(("[b green]▶ running[/]", "[b green]▶[/]"), 3)
         state += [
-            Part(("[b yellow]⏸ PAUSED[/]", "[b yellow]⏸[/]") if paused else
-                 ("[b green]▶ running[/]", "[b green]▶[/]"), 3),
-            Part((f"sim {sim:3.0f} fps", f"sim {sim:.0f} fps"), 4),
+            run,
+            # No simulated frame comes while the first kernels compile: no rate to show.
+            Part(("",) if self.compiling else (f"sim {sim:3.0f} fps", f"sim {sim:.0f} fps"), 4),
             Part((f"view {view:3.0f} fps{mode}", f"view {view:.0f} fps{mode}"), 4),
         ]
         particles = Part((f"{s.particles} particles",), 9)

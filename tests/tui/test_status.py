@@ -59,6 +59,22 @@ def test_a_wide_line_says_it_in_full_words(readout):
     assert "xpbd · error 1 % → 11 substeps, 19.1 ms/frame" in Text.from_markup(cost).plain
 
 
+@pytest.mark.parametrize("width", [78, 110, 158])
+def test_a_first_run_says_it_is_compiling_and_still_fits(readout, width):
+    readout.compiling = "compiling kernels (first run only)… 12 compiled, 40 s"
+    state, _ = readout.text(paused=False, recording=False, iterations=4, substeps=4,
+                            width=width)
+    plain = Text.from_markup(state).plain
+    assert "compiling" in plain and cells(state) <= width
+    assert "▶" not in plain and "sim 57" not in plain  # in place of "running" and the rate
+    if width >= 158:
+        assert "compiling kernels… 12 compiled, 40 s" in plain
+    readout.compiling = ""
+    state, _ = readout.text(paused=False, recording=False, iterations=4, substeps=4,
+                            width=width)
+    assert "compiling" not in Text.from_markup(state).plain
+
+
 def test_the_app_line_fits_its_terminal_and_notices_stay_off_it(tmp_path):
     async def go():
         app = make_app(tmp_path)
