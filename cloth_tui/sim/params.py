@@ -6,9 +6,10 @@ change of these values is an assignment (`assign`) that the next substep sees; t
 (cloth.mass, a material's density) and a material's α per constraint are the model's
 numbers, refitted in place (model.refitted, Step.retune). Nothing is rebuilt, and the
 adaptive substeps, the kernels' thread choice and the divergence guard go on. What a step *is* (which stages run, on which particles and constraints) is the scene's
-`structure`: the scene with every parameter reduced to what decides whether its stage
+structure: the scene with every parameter reduced to what decides whether its stage
 exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no wind stage). Two scenes of
-the same structure run the same stages, so only a change of structure rebuilds the step.
+the same structure (`same_structure`) run the same stages, so only a change of structure
+rebuilds the step.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..materials.schema import Material
-from ..scene import Scene
+from ..materials.section import MaterialSection
+from ..scene import SECTIONS, Scene
 
 
 def _positive(value: float) -> bool:
@@ -103,28 +105,34 @@ def _values(scene: Scene) -> dict[str, Any]:
                 material=None if scene.material is None else scene.material.material)
 
 
-def structure(scene: Scene) -> Scene:
-    """`scene` with each parameter reduced to what decides whether its stage exists (see
-    the module's docstring): equal structures run the same stages."""
-    sections = {}
-    for dotted, decides in PARAMETER_KEYS.items():
-        section, name = dotted.split(".")
-        sections.setdefault(section, {})[name] = decides(getattr(getattr(scene, section), name))
-    out = dataclasses.replace(scene, **{s: dataclasses.replace(getattr(scene, s), **values)
-                                        for s, values in sections.items()})
-    m = None if scene.material is None else scene.material.material
-    if m is not None and not (scene.behavior.tear and m.tear_strength is not None):
-        # Its numbers are α per constraint and masses (model.refitted); what constraints
-        # there are depends only on whether it has a bending rigidity. Tearing by strength
-        # is built from the strength and the stretch (its stage, the substeps' tolerance),
-        # so there every number stays part of the structure.
-        numbers = dataclasses.replace(m, areal_density=0.0, stretch_warp=0.0, stretch_weft=0.0,
-                                      shear=0.0, bending=float(m.bending > 0), damping=0.0,
-                                      preset="")
-        out.material = dataclasses.replace(scene.material, table={}, material=numbers)
-    return out
-
-
 def same_structure(a: Scene, b: Scene) -> bool:
-    """Whether a step built for `a` runs `b` once given b's StepParams."""
-    return structure(a) == structure(b)
+    """Whether a step built for `a` runs `b` once given b's StepParams: the scenes differ
+    at most in parameters, and those alike in what decides whether their stages exist."""
+    if a.objects != b.objects or a.pins != b.pins or _material_part(a) != _material_part(b):
+        return False
+    for section in SECTIONS:
+        sa, sb = getattr(a, section), getattr(b, section)
+        if sa == sb:
+            continue
+        for f in dataclasses.fields(sa):
+            va, vb = getattr(sa, f.name), getattr(sb, f.name)
+            if va != vb:
+                decides = PARAMETER_KEYS.get(f"{section}.{f.name}")
+                if decides is None or decides(va) != decides(vb):
+                    return False
+    return True
+
+
+def _material_part(scene: Scene) -> MaterialSection | None:
+    """What of the scene's material decides its step. Its numbers are α per constraint and
+    masses (model.refitted); which constraints there are depends only on whether it has a
+    bending rigidity. Tearing by strength is built from the strength and the stretch (its
+    stage, the substeps' tolerance), so there every number is part of the structure."""
+    section = scene.material
+    if section is None or (scene.behavior.tear and section.material.tear_strength is not None):
+        return section
+    m = section.material
+    numbers = dataclasses.replace(m, areal_density=0.0, stretch_warp=0.0, stretch_weft=0.0,
+                                  shear=0.0, bending=float(m.bending > 0), damping=0.0,
+                                  preset="")
+    return dataclasses.replace(section, table={}, material=numbers)
