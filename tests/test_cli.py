@@ -56,6 +56,26 @@ def test_simulate_json_reports_torn_constraints():
     assert rc == 2 and "tear_stretch" in err and len(err.strip().splitlines()) == 1
 
 
+def test_simulate_json_reports_the_material_its_error_damping_and_tears():
+    rc, out, err = run("simulate", "tear", "--frames", "30", "--json", "--set",
+                       "behavior.solver=xpbd", "--set", "material.preset=denim", "--set",
+                       "material.tear_strength=40", "--set", "cloth.resolution=12")
+    assert rc == 0, err
+    s = json.loads(out)
+    assert s["material"] == "denim" and "tear_by_strength" in s["effects"]
+    assert s["torn"] > 0 and s["finite"]
+    assert 0.0 <= s["error"] and s["error_tolerance"] < 0.05  # tightened for the tearing
+    assert "numerical_damping" in s  # (None here: the wind brings energy in)
+    rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
+                       "behavior.solver=xpbd", "--set", "material.preset=denim", "--set",
+                       "cloth.resolution=12")
+    s = json.loads(out)
+    assert rc == 0 and s["material"] == "denim" and s["torn"] == 0
+    assert isinstance(s["numerical_damping"], float) and s["error"] <= s["error_tolerance"]
+    rc, out, err = run("simulate", "default", "--frames", "1", "--json")
+    assert rc == 0 and json.loads(out)["material"] is None
+
+
 def test_unpinned_sheet_comes_to_rest_on_floor():
     rc, out, err = run("simulate", "default", "--set", "cloth.pinned=none", "--frames", "300",
                        "--json")

@@ -25,6 +25,7 @@ from .run_stats import FrameStats, RunStats
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
+from .material import damping_factor as decay_factor
 from .stages import damping_factor
 from .tearing import cut_between, strength_tolerance, tear_strength
 
@@ -299,12 +300,14 @@ class Simulation:
         return None if floor is None else free_energy(self._energy(), floor, self.model)
 
     def _asked_damping_loss(self) -> float:
-        """The kinetic energy behavior.damping took over the frame, J: per substep v ← k·v
-        takes (1 − k²) of it; taken at the mean of the frame's start and end."""
-        d = self.scene.behavior.damping
-        if d == 0.0:
+        """The kinetic energy the damping key took over the frame, J (behavior.damping, or
+        a material's own damping rate, which replaces it): per substep v ← k·v takes
+        (1 − k²) of it; taken at the mean of the frame's start and end."""
+        fabric = self.model.fabric
+        k = (decay_factor(fabric.material.damping, self.step.h) if fabric is not None
+             else damping_factor(self.scene.behavior.damping, self.step.h))
+        if k == 1.0:
             return 0.0
-        k = damping_factor(d, self.step.h)
         mean_ke = 0.5 * (kinetic_energy(self.model, self._good)
                          + kinetic_energy(self.model, self.state))
         return self.step.substeps * (1.0 - k * k) * mean_ke

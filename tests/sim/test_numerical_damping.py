@@ -29,15 +29,19 @@ def swing(frames: int = 120, **overrides):
     return 1.0 - sum(end) / len(end) / start, substeps, sim
 
 
-@pytest.mark.parametrize("solver", ["pbd", "xpbd"])
-def test_an_energy_tolerance_of_10_percent_over_2_s_keeps_a_swing_within_it(solver):
-    # 4 fixed substeps lose a third of the swing in 2 s; 0.05/s (10 % over 2 s) makes the
-    # control take what it needs
+# denim's damping is 0: nothing but the step takes the swing's energy
+@pytest.mark.parametrize("solver, material", [("pbd", None), ("xpbd", None),
+                                              ("xpbd", {"preset": "denim"})])
+def test_an_energy_tolerance_of_10_percent_over_2_s_keeps_a_swing_within_it(solver, material):
+    # 4 fixed substeps lose a third of the swing in 2 s (denim: 40 %); 0.05/s (10 % over
+    # 2 s) makes the control take what it needs
+    fabric = {} if material is None else {"material": material}
     fixed, _, sim = swing(behavior__solver=solver, behavior__adaptive=False,
-                          behavior__energy_tolerance=0.05)
+                          behavior__energy_tolerance=0.05, **fabric)
     assert fixed > 0.2  # without adaptive the tolerance is reported, not met
     assert sim.numerical_damping > 0.05 and sim.stats().tolerance_met is False
-    lost, substeps, sim = swing(behavior__solver=solver, behavior__energy_tolerance=0.05)
+    lost, substeps, sim = swing(behavior__solver=solver, behavior__energy_tolerance=0.05,
+                                **fabric)
     assert abs(lost) <= 0.10, (lost, substeps)
     mean = sum(substeps) / len(substeps)
     assert 4 * 4 < mean <= 128, mean  # the work it took, reported per frame
@@ -54,6 +58,16 @@ def test_the_damping_a_key_asks_for_is_not_numerical():
     assert abs(sim.numerical_damping) < 0.02
     lost, _, sim = swing(behavior__substeps=64, behavior__adaptive=False)
     assert lost < 0.1 and abs(sim.numerical_damping) < 0.02
+
+
+def test_a_materials_damping_is_not_numerical_and_replaces_behavior_damping():
+    # denim with a decay rate of 3/s takes nearly all of the swing; behavior.damping (3 %
+    # per 18 ms, which would take as much) is not the material's and asks for nothing
+    lost, _, sim = swing(behavior__solver="xpbd", material={"preset": "denim", "damping": 3.0},
+                         behavior__damping=0.03, behavior__substeps=64,
+                         behavior__adaptive=False)
+    assert lost > 0.9
+    assert abs(sim.numerical_damping) < 0.02
 
 
 def test_numerical_damping_is_none_where_energy_comes_in_or_goes_out_by_contact():

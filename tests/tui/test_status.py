@@ -97,3 +97,25 @@ def test_the_app_line_fits_its_terminal_and_notices_stay_off_it(tmp_path):
             toasts = [t.region for t in app.screen.query("Toast")]
             assert toasts and not any(t.overlaps(bar) for t in toasts)
     run(go())
+
+
+def test_a_runs_own_stats_name_its_material_and_what_its_accuracy_costs():
+    """From a real run (no hand-made stats): a denim sheet tearing by strength says
+    "denim · error … % → N substeps, … ms/frame", its error bound tightened for the
+    tearing; the stretch shown beside it is the fabric's, not the error."""
+    from cloth_tui.scene import Scene
+    from cloth_tui.sim.runner import Simulation
+    sim = Simulation(Scene().with_values({
+        "cloth.resolution": 10, "behavior.solver": "xpbd", "behavior.tear": True,
+        "material": {"preset": "denim", "tear_strength": 400.0}}))
+    for _ in range(5):
+        sim.advance_frame()
+    stats = sim.stats()
+    assert stats.material == "denim" and stats.error_tolerance < 0.05
+    r = Readout()
+    r.on_snapshot(sim.frames, stats)
+    state, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
+    expect = (f"denim · error {100 * stats.error_tolerance:g} % → {stats.substeps_used} "
+              f"substeps, {stats.frame_ms:.1f} ms/frame")
+    assert expect in Text.from_markup(cost).plain
+    assert f"stretch max {100 * stats.max_stretch:.2f}%" in Text.from_markup(state).plain
