@@ -31,6 +31,7 @@ from ..sim.measures import energy, stretch
 from ..sim.solvers import PositionBasedSolver
 from ..sim.springs import ORDERS
 from ..sim.state import ClothState
+from .accuracy_physical import physical_calls, physical_study
 
 INTEGRATORS = tuple(ORDERS)           # springs integrators, in the order of the tables
 BLOWUP_STRETCH = 1.0                  # |L/L0 − 1| beyond which a run counts as blown up
@@ -64,6 +65,7 @@ class StudyConfig:
     sag_damping: float = 0.1          # behavior.damping while settling
     sag_substeps: int = 4             # per 1/60 s frame
     timing_budget: float = 0.1        # s: a point is re-timed while its runs took less
+    cantilever_links: tuple = (5, 10)  # the physical reference's resolutions (accuracy_physical)
 
     @classmethod
     def full(cls) -> "StudyConfig":
@@ -81,6 +83,7 @@ class StudyConfig:
             pbd_iterations=(1, 4, 16, 64),
             stability_stiffness=(20.0, 200.0, 2000.0),
             stability_bisections=9,
+            cantilever_links=(5, 10, 20, 40),
         )
 
     @classmethod
@@ -380,7 +383,8 @@ def warm_then(fn, *args):
 
 
 def run_study(cfg: StudyConfig, progress=None, run_all=None) -> dict:
-    """The whole study: reference, work-precision points, orders, stability map, sag.
+    """The whole study: reference, work-precision points, orders, stability map, sag, and
+    the physical reference (a clamped strip against the elastica, accuracy_physical).
     `run_all(calls)` runs a list of (function, args) and returns the results in order:
     serially in this process by default, or as tasks on Dask (`accuracy --workers`); the
     runs are independent, and each gives the same numbers wherever it runs."""
@@ -396,14 +400,17 @@ def run_study(cfg: StudyConfig, progress=None, run_all=None) -> dict:
                    for integ in INTEGRATORS for dt in cfg.ladders.get(integ, ())]
     point_calls += [(point, (cfg, ref, solver, dt, it)) for solver in ("pbd", "xpbd")
                     for it in cfg.pbd_iterations for dt in cfg.pbd_dts]
-    calls = point_calls + stability_calls(cfg) + sag_calls(cfg)
-    say(f"{len(point_calls)} work-precision points, stability map, sag study: "
-        f"{len(calls)} runs")
+    n_sag, cantilever = len(sag_calls(cfg)), physical_calls(cfg.cantilever_links)
+    calls = point_calls + stability_calls(cfg) + sag_calls(cfg) + cantilever
+    say(f"{len(point_calls)} work-precision points, stability map, sag study, physical "
+        f"reference: {len(calls)} runs")
     results = run_all(calls)
     points = results[:len(point_calls)]
     n_stab = len(stability_calls(cfg))
     stab = stability_map(cfg, results[len(point_calls):len(point_calls) + n_stab])
-    sag = sag_study(cfg, results[len(point_calls) + n_stab:])
+    first_sag = len(point_calls) + n_stab
+    sag = sag_study(cfg, results[first_sag:first_sag + n_sag])
+    physical = physical_study(cfg.cantilever_links, results[first_sag + n_sag:])
     floor = 10.0 * ref["error_estimate"] if math.isfinite(ref["error_estimate"]) else 0.0
     ceiling = 0.02 * cfg.size
     orders = {}
@@ -414,7 +421,7 @@ def run_study(cfg: StudyConfig, progress=None, run_all=None) -> dict:
     reference_out = {k: v for k, v in ref.items() if k != "x"}
     reference_out["error_floor"] = floor
     return {"scene": describe(cfg), "reference": reference_out, "points": points,
-            "orders": orders, "stability": stab, "sag": sag,
+            "orders": orders, "stability": stab, "sag": sag, "physical": physical,
             "elapsed": time.perf_counter() - t_start}
 
 

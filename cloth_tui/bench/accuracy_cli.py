@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ..usage import UsageError, check_output_path
 from . import accuracy
+from .accuracy_physical import format_physical
 
 METHOD_STYLE = {  # colour, marker
     "explicit_euler": ("tab:red", "o"), "symplectic_euler": ("tab:cyan", "s"),
@@ -139,6 +140,7 @@ def format_report(r: dict) -> str:
                    + f"{sg['spread'][solver]:>10.4f}")
     out.append(f"springs k = 1/α, implicit Euler (converged): "
                f"{_g(sg['springs_implicit_euler'], '.4f')} m")
+    out += [""] + format_physical(r["physical"])
     out.append(f"\nstudy time {r['elapsed']:.1f} s")
     return "\n".join(out)
 
@@ -154,7 +156,13 @@ def plot_work_precision(r: dict, path: Path) -> None:
 
     from ..util import atomic_write
 
-    fig, ax = plt.subplots(figsize=(8.5, 6), dpi=110)
+    physical = r.get("physical", {}).get("points")
+    if physical:
+        fig, (ax, phys) = plt.subplots(1, 2, figsize=(14, 6), dpi=110,
+                                       gridspec_kw={"width_ratios": [1.7, 1]})
+        plot_physical(r["physical"], phys)
+    else:
+        fig, ax = plt.subplots(figsize=(8.5, 6), dpi=110)
     groups: dict = {}
     for p in r["points"]:
         label = p["method"] + (f" ×{p['iterations']} it" if p["iterations"] else "")
@@ -202,3 +210,27 @@ def plot_work_precision(r: dict, path: Path) -> None:
     with atomic_write(Path(path)) as fh:
         fig.savefig(fh, format="png")
     plt.close(fig)
+
+
+def plot_physical(p: dict, ax) -> None:
+    """|error| of the clamped strip's tip drop against wall time, one line per solver, each
+    point labelled with its resolution."""
+    by_solver: dict = {}
+    for q in p["points"]:
+        by_solver.setdefault(q["solver"], []).append(q)
+    for solver, pts in by_solver.items():
+        color, marker = METHOD_STYLE.get(solver, ("black", "o"))
+        pts = sorted(pts, key=lambda q: q["links"])
+        ax.plot([q["wall_s"] for q in pts], [abs(q["error"]) for q in pts], marker=marker,
+                color=color, label=solver)
+        for q in pts:
+            ax.annotate(f"L/{q['links']}", (q["wall_s"], abs(q["error"])), fontsize=7,
+                        textcoords="offset points", xytext=(4, 4))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.grid(True, which="both", alpha=0.25)
+    ax.set_xlabel("wall time of the settling run (s)")
+    ax.set_ylabel("|relative error| of the tip drop δ/L")
+    ax.set_title(f"Physical reference: {p['preset']} strip at wL³/B = {p['load']:g} "
+                 f"against the elastica", fontsize=8)
+    ax.legend(fontsize=7)

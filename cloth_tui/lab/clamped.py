@@ -86,16 +86,17 @@ def substeps_for(spacing: float, material, frame_rate: float) -> int:
     return max(SUBSTEPS, math.ceil(1.0 / (frame_rate * longest)))
 
 
-def clamped_strip(free_length: float, links: int, material):
+def clamped_strip(free_length: float, links: int, material, solver: str = "xpbd"):
     """(scene, rows, columns, h): the strip of `links` free links clamped by its first
-    three columns, held where the flat sheet lies."""
+    three columns, held where the flat sheet lies; a SceneError if `solver` cannot
+    simulate the material."""
     h = free_length_spacing(free_length, links)
     cols = links + HELD_COLUMNS
     length = (cols - 1) * h
     rows = min(MAX_ROWS, particles_across(STRIP_WIDTH, free_length, links))
     scene = strip_scene(size=[length, STRIP_WIDTH], resolution=[cols, rows],
                         pins=[{"cols": [0, HELD_COLUMNS - 1]}],
-                        behavior={"solver": "xpbd", "iterations": ITERATIONS,
+                        behavior={"solver": solver, "iterations": ITERATIONS,
                                   "frame_rate": FRAME_RATE,
                                   "substeps": substeps_for(h, material, FRAME_RATE)},
                         material_section=material_table(
@@ -111,11 +112,11 @@ def _tip(sim, rows: int, cols: int) -> tuple[float, float]:
             float(np.mean(x[:, -1, 0] - edge_x)))
 
 
-def settle_clamped(free_length: float, links: int, material) -> dict:
+def settle_clamped(free_length: float, links: int, material, solver: str = "xpbd") -> dict:
     """Runs the clamped strip to rest (its tip still to SETTLED_DRIFT·L over half a period);
     returns its tip's drop and reach from the clamp's edge (m, mean over the rows), the
     line's angle below horizontal, the wall time and the solve's settings."""
-    scene, rows, cols, h = clamped_strip(free_length, links, material)
+    scene, rows, cols, h = clamped_strip(free_length, links, material, solver)
     sim = warmed_simulation(scene)
     period = first_mode_period(free_length, material)
     chunk = max(1, math.ceil(CHECK_PERIODS * period * scene.behavior.frame_rate))

@@ -57,7 +57,7 @@ def tiny_config():
         ladders={i: n(500, 1000) for i in A.ORDERS} | {"explicit_euler": n(60, 2000)},
         pbd_dts=n(240,), pbd_iterations=(2,), stability_stiffness=(20.0, 200.0, 2000.0),
         stability_t_end=0.05, stability_bisections=1, sag_iterations=(1, 4), sag_t_end=0.2,
-        timing_budget=0.0)
+        timing_budget=0.0, cantilever_links=(4, 8))
 
 
 def test_cli_json_and_plot(tmp_path, monkeypatch, capsys):
@@ -66,7 +66,7 @@ def test_cli_json_and_plot(tmp_path, monkeypatch, capsys):
     args = SimpleNamespace(json=True, quick=True, plot=str(out))
     assert accuracy_cli.run_accuracy(args) == 0
     data = json.loads(capsys.readouterr().out)
-    assert set(data) >= {"points", "orders", "stability", "reference", "sag"}
+    assert set(data) >= {"points", "orders", "stability", "reference", "sag", "physical"}
     keys = {"method", "dt", "iterations", "error", "max_error", "time", "stable", "stretch",
             "energy_drift"}
     assert all(keys <= set(p) for p in data["points"])
@@ -83,8 +83,25 @@ def test_cli_text(monkeypatch, capsys):
     assert accuracy_cli.run_accuracy(SimpleNamespace(json=False, quick=True, plot=None)) == 0
     text = capsys.readouterr().out
     assert "Measured order" in text and "Stability map" in text and "Settled sag" in text
+    assert "Physical reference" in text and any(line.startswith("pbd") and "not run:" in line
+                                                for line in text.splitlines())
 
 
 def test_plot_needs_png(tmp_path):
     from cloth_tui.cli import main
     assert main(["accuracy", "--quick", "--plot", str(tmp_path / "x.jpg")]) == 2
+
+
+def test_the_physical_reference_is_the_elastica_per_solver():
+    """Only a solver that takes the material runs it (xpbd today; the others are listed with
+    the reason), and its error against the elastica falls with the resolution."""
+    from cloth_tui.bench import accuracy_physical as P
+
+    links = (4, 8)
+    p = P.physical_study(links, A.run_serially(P.physical_calls(links)))
+    assert {q["solver"] for q in p["points"]} == {"xpbd"}
+    assert set(p["not_run"]) == {"pbd", "springs"}
+    assert all("needs behavior.solver" in why for why in p["not_run"].values())
+    coarse, fine = (next(q for q in p["points"] if q["links"] == n) for n in links)
+    assert abs(fine["error"]) < abs(coarse["error"]) < 0.05
+    assert fine["wall_s"] > 0 and p["expected"] == pytest.approx(0.6406, abs=1e-4)
