@@ -34,7 +34,7 @@ TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) o
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
 MASS_MODELS = ("area", "uniform")
 PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
-SOLVERS = ("pbd", "xpbd", "springs")
+SOLVERS = ("pbd", "hpbd", "xpbd", "springs")
 INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
                "implicit_euler")
 SHAPE_TYPES = shapes.single_object_names()  # scene.object: the original's shapes
@@ -169,7 +169,9 @@ class Behavior:
                             hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
-    solver: str = key("pbd", "pbd (position projection), xpbd (compliant), springs (Hooke)",
+    solver: str = key("pbd", "pbd (position projection), hpbd (pbd with coarse levels: the "
+                      "accuracy at less cost on large sheets), xpbd (compliant), springs "
+                      "(Hooke)",
                       choices=SOLVERS)
     integrator: str = key("auto", "time integrator; auto: verlet for pbd/xpbd, implicit_euler "
                           "(stable at any step) for springs", choices=INTEGRATORS)
@@ -180,7 +182,7 @@ class Behavior:
                            lo_open=True, hi=1e9)
     spring_damping: float = key(0.5, "springs: damping along each spring", unit="N·s/m",
                                 lo=0.0, hi=1e6)
-    tethers: bool = key(True, "long-range attachments (pbd, xpbd; where pins exist): no "
+    tethers: bool = key(True, "long-range attachments (pbd, hpbd, xpbd; where pins exist): no "
                         "particle may drift farther from its nearest pin than on the flat "
                         "sheet, which keeps large sheets from over-stretching")
     tear: bool = key(False, "constraints stretched beyond tear_stretch break and leave the "
@@ -423,7 +425,7 @@ def validate(scene: Scene) -> None:
     problem = solver_problem(scene.material, b.solver)
     if problem:
         raise SceneError(problem)
-    if b.solver in ("pbd", "xpbd") and b.integrator not in ("auto", "verlet"):
+    if b.solver in ("pbd", "hpbd", "xpbd") and b.integrator not in ("auto", "verlet"):
         raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
                          f"\"springs\"; {b.solver} predicts positions with verlet")
     if b.wave and 2 * math.pi * b.wave_amplitude * b.wave_frequency > b.max_speed:

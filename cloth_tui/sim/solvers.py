@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from .fabric_solve import ProjectFabric
+from .hierarchical_pbd import ProjectHierarchy
 from .jit import kernel
 from .material import damping_factor as decay_factor
 from .params import StepParams
@@ -111,7 +112,8 @@ class UpdateVelocities:
 
 
 class PositionBasedSolver:
-    """PBD (compliance 0: rigid constraints, stiffer with more iterations) or XPBD
+    """PBD (compliance 0: rigid constraints, stiffer with more iterations), hierarchical
+    PBD (hpbd: PBD's constraints, with coarse levels projected before them) or XPBD
     (compliance α > 0: a material of stiffness 1/α). The force effects run as stages before
     the verlet prediction, adding to state.accel. With a material (model.fabric, xpbd only)
     the constraints are the fabric's, each with its own α (fabric_solve.ProjectFabric), and
@@ -126,6 +128,7 @@ class PositionBasedSolver:
         self._xpbd = b.solver == "xpbd"
         self._h = h
         fabric = model.fabric
+        self._hierarchy: ProjectHierarchy | None = None
         self._integrate: list[Effect] = list(forces)
         self._integrate.append(IntegrateVerlet(model, params))
         if fabric is not None:
@@ -138,6 +141,10 @@ class PositionBasedSolver:
                 model, params.iterations, params.compliance if self._xpbd else 0.0, h,
                 name="project_xpbd_constraints" if self._xpbd else "project_constraints")
             self._constraints = [self.projection] if model.num_constraints else []
+            if b.solver == "hpbd" and model.num_constraints:
+                # the coarse levels first, then the fine passes (hierarchical_pbd.py)
+                self._hierarchy = ProjectHierarchy(model)
+                self._constraints.insert(0, self._hierarchy)
         self._velocities = UpdateVelocities(model, params)
 
     def retune(self, params: StepParams, model) -> None:
@@ -151,6 +158,8 @@ class PositionBasedSolver:
         if self._xpbd:
             projection.set_compliance(params.compliance, self._h)
         projection.refresh_masses()
+        if self._hierarchy is not None:
+            self._hierarchy.refresh_masses()
 
     @property
     def lambdas(self) -> np.ndarray:

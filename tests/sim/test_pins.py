@@ -48,7 +48,7 @@ def test_a_hard_group_is_held_at_its_offset_from_the_start():
         assert np.allclose(sim.state.x[:N], rest + [0.1, 0.2, -0.05], atol=1e-12)
 
 
-@pytest.mark.parametrize("solver", ["pbd", "xpbd", "springs"])
+@pytest.mark.parametrize("solver", ["pbd", "hpbd", "xpbd", "springs"])
 def test_a_moving_group_follows_its_keys(solver):
     keys = [[0.25, 0, 0, 0], [0.75, 0.3, 0.1, 0], [1.25, 0.3, 0.1, -0.2]]
     s = pinned_scene(f"[{{cols=[-1,-1], keys={keys}}}, {{cols=[0,0]}}]",

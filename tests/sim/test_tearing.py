@@ -67,7 +67,7 @@ def test_the_same_pull_without_tear_does_not_tear(solver, g, extra):
 def test_torn_constraints_leave_every_solver():
     """A torn constraint exerts nothing: two particles joined only by torn constraints fly
     apart freely, in each solver."""
-    for solver in ("pbd", "xpbd", "springs"):
+    for solver in ("pbd", "hpbd", "xpbd", "springs"):
         s = Scene()
         s.cloth.resolution = 2
         s.cloth.pinned = "none"
