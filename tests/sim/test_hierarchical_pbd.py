@@ -41,9 +41,9 @@ def test_hpbd_reaches_the_converged_equilibrium(case):
     ref = settled(case, behavior__solver="pbd", **CONVERGED)
     sim = settled(case, behavior__solver="hpbd")
     tol = sim.scene.behavior.error_tolerance
-    assert ref.stats()["error"] < 0.1 * tol
+    assert ref.stats().error < 0.1 * tol
     stats = sim.stats()
-    assert stats["finite"] and stats["error"] <= tol and stats["tolerance_met"]
+    assert stats.finite and stats.error <= tol and stats.tolerance_met
     gap = np.linalg.norm(sim.state.x - ref.state.x, axis=1).max()
     assert gap <= tol * sim.model.extent / 2, f"{case}: {gap:.4f} m from the converged sheet"
     if case == "draped":
