@@ -145,7 +145,8 @@ BAD_SCENES = {
     "negative_size": "[cloth]\nsize = -1.0\n",
     "absurd_resolution": "[cloth]\nresolution = 100000\n",
     "zero_direction": "[forces]\nwind_direction = [0, 0, 0]\n",
-    "unknown_object": "[[objects]]\ntype = \"torus\"\n",
+    "unknown_object": "[[objects]]\ntype = \"teapot\"\n",
+    "spindle_torus": "[[objects]]\ntype = \"torus\"\nmajor_radius = 0.1\nminor_radius = 0.2\n",
     "binary": b"\x00\x01\xff\xfe garbage",
 }
 

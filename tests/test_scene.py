@@ -40,7 +40,7 @@ def test_save_and_load_round_trip(tmp_path):
     ("[behavior]\ndamping = 1.0\n", ["behavior.damping", "< 1"]),
     ("[forces]\nwind_direction = [0, 0, 0]\n", ["wind_direction", "zero"]),
     ("[nope]\n", ["[nope]"]),
-    ("[[objects]]\ntype = \"torus\"\n", ["objects[0].type", "sphere"]),
+    ("[[objects]]\ntype = \"teapot\"\n", ["objects[0].type", "sphere"]),
     ("[appearance]\ncloth_color = \"red\"\n", ["cloth_color", "#rrggbb"]),
     ("[behavior]\nsolver = \"pbd\"\nintegrator = \"rk4\"\n", ["integrator", "springs"]),
     # capsules used to reuse a plane's `normal` and a box's size[1] for axis and length

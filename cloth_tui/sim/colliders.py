@@ -33,7 +33,7 @@ from ..scene import SceneObject
 from .jit import kernel
 from .params import StepParams
 from .protocols import Collider, ObjectPose
-from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere
+from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere, torus
 from .shapes.base import KernelInputs
 
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
@@ -51,10 +51,12 @@ _capsule = kernel(inline="always")(capsule.distance)
 _plane = kernel(inline="always")(plane.distance)
 _mesh = kernel(inline="always")(mesh.distance)
 _cylinder = kernel(inline="always")(cylinder.distance)
-SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER = (
+_torus = kernel(inline="always")(torus.distance)
+SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER, TORUS = (
     sphere.SHAPE.code, box.SHAPE.code, capsule.SHAPE.code, plane.SHAPE.code, mesh.SHAPE.code,
-    cylinder.SHAPE.code)
-DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER}  # the codes shape_distance has a branch for
+    cylinder.SHAPE.code, torus.SHAPE.code)
+# the codes shape_distance has a branch for
+DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER, TORUS}
 
 
 @kernel(inline="always")
@@ -75,6 +77,8 @@ def shape_distance(code, qx, qy, qz, p, side, grid, gradient):
         return _mesh(qx, qy, qz, p, side, grid, gradient)
     if code == CYLINDER:
         return _cylinder(qx, qy, qz, p, side, grid, gradient)
+    if code == TORUS:
+        return _torus(qx, qy, qz, p, side, grid, gradient)
     return math.nan, 0.0, 1.0, 0.0
 
 

@@ -93,3 +93,43 @@ def test_a_video_plays_at_the_bakes_own_frame_rate_unless_fps_is_given(tmp_path)
     for path, fps in ((own, 24.0), (given, 10.0)):
         with iio.get_reader(str(path)) as reader:
             assert reader.get_meta_data()["fps"] == pytest.approx(fps)
+
+
+RING_AND_POST = """
+[cloth]
+resolution = 10
+height = 0.6
+
+[[objects]]
+type = "torus"
+center = [0.0, 0.0, 0.0]
+axis = [0.0, 1.0, 0.0]
+major_radius = 0.3
+minor_radius = 0.1
+
+[[objects]]
+type = "cylinder"
+center = [0.0, 0.05, 0.0]
+axis = [0.0, 1.0, 0.0]
+radius = 0.08
+height = 0.3
+"""
+
+
+def test_a_bake_of_a_torus_and_a_cylinder_replays_as_it_was_simulated(tmp_path):
+    import imageio.v3 as iio
+
+    scene = tmp_path / "ring.toml"
+    scene.write_text(RING_AND_POST)
+    bare = tmp_path / "bare.toml"
+    bare.write_text(RING_AND_POST.split("[[objects]]")[0])
+    out = tmp_path / "ring.usda"
+    assert main(["bake", str(scene), "-o", str(out), "--frames", "6"]) == 0
+    pictures = {}
+    for name, args in (("direct", [str(scene), "--frames", "6"]), ("replay", [str(out)]),
+                       ("bare", [str(bare), "--frames", "6"])):
+        pictures[name] = tmp_path / f"{name}.png"
+        assert main(["render", *args, "-o", str(pictures[name]), "--size", "96x72"]) == 0
+    a, b, c = (iio.imread(pictures[k]).astype(int) for k in ("direct", "replay", "bare"))
+    assert np.mean(np.abs(a - b)) < 0.5
+    assert np.mean(np.abs(b - c)) > 2.0  # the replay draws both objects

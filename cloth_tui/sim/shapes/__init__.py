@@ -15,12 +15,13 @@ from __future__ import annotations
 
 import dataclasses
 
-from . import box, capsule, cylinder, mesh, plane, sphere
+from . import box, capsule, cylinder, mesh, plane, sphere, torus
 from . import base
 from .base import Shape
 
 SHAPES: dict[str, Shape] = {s.name: s for s in (sphere.SHAPE, box.SHAPE, plane.SHAPE,
-                                                 capsule.SHAPE, mesh.SHAPE, cylinder.SHAPE)}
+                                                 capsule.SHAPE, mesh.SHAPE, cylinder.SHAPE,
+                                                 torus.SHAPE)}
 
 
 class UnknownShapeError(ValueError):

@@ -28,6 +28,8 @@ EXAMPLES = {
     # the file's torus: ring 0.25 m, tube 0.08 m, about z
     "mesh": (f'path = "{TORUS_PLY}"', (0.25, 0.0, 0.0)),
     "cylinder": ('radius = 0.1\nheight = 0.3\naxis = [0.0, 1.0, 1.0]', (0.0, 0.05, 0.05)),
+    # inside the tube, on its centre circle
+    "torus": ('major_radius = 0.2\nminor_radius = 0.05\naxis = [0.0, 1.0, 1.0]', (0.2, 0.0, 0.0)),
 }
 # How far a render mesh's vertices may lie from the surface the kernel collides with, m:
 # analytic shapes put their vertices on it; a mesh's grid blends its samples (a cell is
