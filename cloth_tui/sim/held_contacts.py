@@ -71,6 +71,20 @@ def _check_object(scene: Scene, where: str, collider: ShapeCollider, center: np.
                          "object or the sheet (cloth.height, cloth.size)")
 
 
+def held_inputs_differ(a: Scene, b: Scene) -> bool:
+    """Whether the check may answer differently for `b` than for `a`: the sheet, its pins,
+    the wave's edges or the objects and the floor differ (a change of forces, solver,
+    damping or appearance moves no held particle and no object)."""
+    return _held_inputs(a) != _held_inputs(b)
+
+
+def _held_inputs(scene: Scene) -> tuple:
+    b = scene.behavior
+    return (dataclasses.replace(scene.cloth, mass=0.0, mass_model="area"),
+            dataclasses.replace(scene.scene, friction=0.0), scene.objects, scene.pins, b.wave,
+            b.wave_amplitude, b.seed)
+
+
 def check_start(scene: Scene) -> None:
     """The same check for a scene that has no simulation yet (the app, before it applies a
     change): a model without tethers is enough, and cheaper."""

@@ -111,6 +111,8 @@ def same_structure(a: Scene, b: Scene) -> bool:
     if a.objects != b.objects or a.pins != b.pins or _material_part(a) != _material_part(b):
         return False
     for section in SECTIONS:
+        if section == "appearance":
+            continue  # the renderer's alone: no stage reads it
         sa, sb = getattr(a, section), getattr(b, section)
         if sa == sb:
             continue

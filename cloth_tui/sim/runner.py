@@ -17,7 +17,7 @@ from .fabric_solve import ProjectFabric, fabric_force_energy
 from .measures import (all_finite, elastic_energy, energy, free_energy,
                        gravitational_energy, kinetic_energy, per_constraint, potential_floor,
                        solve_error, stretch)
-from .held_contacts import check_held_particles
+from .held_contacts import check_held_particles, held_inputs_differ
 from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
 from .params import same_structure
 from .pins import with_user_pin
@@ -109,7 +109,8 @@ class Simulation:
         b = scene.behavior
         new_model = build_model(scene.cloth, b, scene.pins, _material(scene)) if model \
             else self.model
-        check_held_particles(scene, new_model)  # before anything changes: a refusal keeps all
+        if model or held_inputs_differ(self.scene, scene):
+            check_held_particles(scene, new_model)  # before any change: a refusal keeps all
         self.scene = scene
         if model:
             self.model = new_model

@@ -28,8 +28,7 @@ from ..compile_notice import CompileWatch
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
-from ..sim.held_contacts import check_start
-from ..sim.params import same_structure
+from ..sim.held_contacts import check_start, held_inputs_differ
 from ..sim.sim_thread import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
@@ -259,13 +258,14 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
 
     # -- scene changes --------------------------------------------------------------------
     def set_value(self, dotted: str, value: Any) -> bool:
-        """Apply one setting live; a refused value is reported and changes nothing. A value
-        the step reads as a parameter (sim/params.py) is checked by the scene's validators
-        alone and taken by the running step; any other change is also checked for held
-        particles in objects here, before the simulation thread builds anything."""
+        """Apply one setting live; a refused value is reported and changes nothing. It is
+        checked by the scene's validators; one that may move a held particle or an object
+        (the sheet, pins, the wave, objects, the floor) also for held particles in objects,
+        here, before the simulation thread builds anything. A forces, friction, damping or
+        solver value, or an appearance, builds no model here."""
         try:
             new = self.scene.with_value(dotted, value)
-            if not same_structure(new, self.scene):
+            if held_inputs_differ(self.scene, new):
                 check_start(new)  # refused here, not by the simulation thread
         except SceneError as e:
             self.notify(str(e), title="Value refused", severity="error", timeout=8)

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from cloth_tui.cli import main
 from cloth_tui.scene import SceneError, SceneObject
-from cloth_tui.sim.held_contacts import check_start
+from cloth_tui.sim.held_contacts import check_start, held_inputs_differ
 from cloth_tui.sim.model import pinned_indices
 from cloth_tui.sim.runner import Simulation
 
@@ -154,3 +154,16 @@ def test_a_moving_plane_that_comes_between_held_particles_is_refused():
     with pytest.raises(SceneError, match=r"^objects\[0\] \(a plane, [0-9.]+ s into its orbit\) "
                                          r"passes between held particles"):
         check_start(s)
+
+
+@pytest.mark.parametrize("key, value, differ", [
+    ("forces.wind", True, False), ("scene.friction", 0.1, False), ("cloth.mass", 1.0, False),
+    ("behavior.solver", "xpbd", False), ("appearance.cloth_color", "#000000", False),
+    ("cloth.height", 0.5, True), ("cloth.pinned", "one_edge", True),
+    ("scene.object", "sphere", True), ("scene.thickness", 0.01, True),
+    ("behavior.wave", True, True), ("behavior.seed", 3, True)])
+def test_what_may_change_the_check(key, value, differ):
+    """What may put a held particle in an object's skin: the sheet, its pins, the wave, the
+    objects and the floor; the app checks (building a model) only then."""
+    s = scene()
+    assert held_inputs_differ(s, s.with_value(key, value)) is differ

@@ -5,6 +5,8 @@ and the UI thread builds no model for it."""
 import dataclasses
 import threading
 
+import pytest
+
 from cloth_tui.scene import Scene
 from cloth_tui.sim.model import ClothModel
 from cloth_tui.tui.panels import widget_id
@@ -69,4 +71,31 @@ def test_parameter_edits_keep_the_run_and_build_no_model_on_the_ui_thread(tmp_pa
             assert any("forces.wind_strength = -2" in n for n in notifications(app))
             assert field.value == "5" and app.scene.forces.wind_strength == 5.0
             assert app.focused is field
+    run(go())
+
+
+def test_edits_that_move_nothing_held_build_no_model_on_the_ui_thread(tmp_path, monkeypatch):
+    """Wind switched on (a new step), a colour, the sheet's mass: nothing held or in the way
+    moves, so there is nothing to check for held particles in objects."""
+    ui_thread = threading.get_ident()
+    built_on_ui: list[str] = []
+    init = ClothModel.__init__
+
+    def watched(self, *args, **kwargs):
+        if threading.get_ident() == ui_thread:
+            built_on_ui.append("ClothModel")
+        init(self, *args, **kwargs)
+
+    async def go():
+        app = make_app(tmp_path, Scene().with_value("cloth.resolution", 12))
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.sim is not None, what="the simulation")
+            monkeypatch.setattr(ClothModel, "__init__", watched)
+            for dotted, value in (("forces.wind", True), ("appearance.cloth_color", "#112233"),
+                                  ("cloth.mass", 0.5)):
+                assert app.set_value(dotted, value)
+                await until(pilot, lambda: sim_scene(app).get(dotted) == value, what=dotted)
+            assert built_on_ui == []
+            assert "wind" in app.sim.sim.step.names
+            assert float(app.sim.sim.model.mass.sum()) == pytest.approx(0.5)
     run(go())
