@@ -4,7 +4,8 @@ scene as the sheet grows.
 For each solver and sheet size n the default scene (adaptive substeps, the default error
 tolerance) runs `frames` frames from rest, `repeats` times from a fresh sheet. Reported:
 the work it needed (substeps per frame the controller ran, redone frames included, and
-substeps × passes per substep), whether every frame met the tolerance, and wall ms per
+substeps × passes per substep, hpbd's coarse levels counted as the fine passes their
+projections equal), whether every frame met the tolerance, and wall ms per
 simulated frame (median over the repeats, with the slowest and fastest). The growth exponent
 is the least-squares slope of log(ms per frame) against log(particles): 1 is linear in the
 particles, 1.5 is the n³ of a Gauss-Seidel solve whose passes carry a correction one
@@ -20,6 +21,7 @@ import time
 SOLVERS: tuple[tuple[str, dict], ...] = (
     ("pbd, gauss-seidel", {}),
     ("xpbd, gauss-seidel", {"behavior.solver": "xpbd"}),
+    ("hpbd, hierarchical", {"behavior.solver": "hpbd"}),
 )
 SIZES = (32, 64, 128, 256)
 QUICK_SIZES = (32, 64)
@@ -46,7 +48,17 @@ def run_once(scene, frames: int) -> dict:
     wall = time.perf_counter() - t0
     return {"wall_s": wall, "substeps_run": sim.substeps_run, "met": met and not sim.halted,
             "worst_error": worst, "halted": sim.halted,
-            "passes": sim.scene.behavior.iterations}
+            "passes": _passes(sim)}
+
+
+def _passes(sim) -> float:
+    """Constraint passes per substep, a hierarchy's coarse levels counted in fine passes."""
+    from ..sim.solvers import PositionBasedSolver
+
+    solver = sim.step.solver
+    if isinstance(solver, PositionBasedSolver):
+        return solver.passes_per_substep
+    return float(sim.scene.behavior.iterations)
 
 
 def bench_cost(n: int, overrides: dict, frames: int, repeats: int) -> dict:

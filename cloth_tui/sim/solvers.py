@@ -162,6 +162,15 @@ class PositionBasedSolver:
             self._hierarchy.refresh_masses()
 
     @property
+    def passes_per_substep(self) -> float:
+        """The constraint work of a substep in fine passes: the iterations, and for hpbd
+        its coarse levels' projections as a share of the sheet's constraints."""
+        passes = float(self.projection.iterations)
+        if self._hierarchy is not None:
+            passes += self._hierarchy.projections / max(1, self._hierarchy.model.num_constraints)
+        return passes
+
+    @property
     def lambdas(self) -> np.ndarray:
         """Multipliers λ of the last substep, N·s², one per constraint (model.edges order);
         all zero for PBD, whose rigid constraints store no elastic energy."""
