@@ -185,8 +185,9 @@ class Behavior:
     tethers: bool = key(True, "long-range attachments (pbd, hpbd, xpbd; where pins exist): no "
                         "particle may drift farther from its nearest pin than on the flat "
                         "sheet, which keeps large sheets from over-stretching")
-    tear: bool = key(False, "constraints stretched beyond tear_stretch break and leave the "
-                     "solve (tethers are then off: a torn sheet has no fixed geodesics)")
+    tear: bool = key(False, "constraints stretched beyond tear_stretch (with a material's "
+                     "tear_strength: loaded beyond it) break and leave the solve (tethers "
+                     "are then off: a torn sheet has no fixed geodesics)")
     tear_stretch: float = key(0.3, "stretch L/L0 − 1 at which a constraint breaks, in "
                               "tension only (0.3: 30 %)", lo=0.0, lo_open=True, hi=100.0)
     self_collision: str = key("off", "keep the sheet from passing through itself",

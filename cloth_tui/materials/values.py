@@ -35,7 +35,8 @@ KEYS: dict[str, KeySpec] = {
                        "viscous drag per unit mass: velocities decay as exp(−damping·t), "
                        "independent of timestep and substeps"),
     "tear_strength": KeySpec("N/m", 0.0, 1e7, True,
-                             "tension per unit width at which the fabric tears (optional)"),
+                             "tension per unit width at which the fabric tears, with "
+                             "behavior.tear (optional: without it, tear_stretch)"),
 }
 
 
