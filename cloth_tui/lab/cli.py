@@ -120,9 +120,11 @@ def format_report(r: dict) -> str:
         extras = [k for k in EXTRA_COLUMNS if any(k in p for p in case["points"])]
         expected = case["expected"]
         out += ["", f"{case['label']}: expected {r['quantity']} "
-                    f"{_g(expected)} {unit} (computed)" if expected is not None
+                    f"{_g(expected)}{' ' + unit if unit else ''} (computed)"
+                if expected is not None
                 else f"{case['label']}: (a report; no analytic value)"]
-        header = (f"{'N':>5}{'measured (' + unit + ')':>16}{'error':>11}"
+        measured = "measured" + (f" ({unit})" if unit else "")
+        header = (f"{'N':>5}{measured:>16}" + (f"{'error':>11}" if expected is not None else "")
                   + (f"{bound:>14}" if bound else "") + f"{'wall (s)':>10}"
                   + "".join(f"{EXTRA_COLUMNS[k][0]:>13}" for k in extras))
         out.append(header)
@@ -130,7 +132,8 @@ def format_report(r: dict) -> str:
             err = p["error"]
             ok = ("yes" if err is not None and abs(err) <= r["tolerance"] else "NO") \
                 if bound else ""
-            row = (f"{p['resolution']:>5}{_g(p['measured']):>16}{_g(err, '+.3%'):>11}"
+            row = (f"{p['resolution']:>5}{_g(p['measured']):>16}"
+                   + (f"{_g(err, '+.3%'):>11}" if expected is not None else "")
                    + (f"{ok:>14}" if bound else "") + f"{p['wall_s']:>10.2f}")
             for k in extras:
                 row += f"{_g(p.get(k), EXTRA_COLUMNS[k][1]):>13}"
