@@ -31,7 +31,7 @@ import numpy as np
 
 from ..scene import SceneObject
 from .jit import kernel
-from .params import StepParams
+from .params import FrictionSource, StepParams
 from .protocols import Collider, ObjectPose
 from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere, torus
 from .shapes.base import KernelInputs
@@ -163,7 +163,7 @@ class ShapeCollider:
     for all."""
 
     def __init__(self, model, shape: Shape, inputs: KernelInputs, center, *,
-                 friction: float | StepParams, thickness: float, moving: bool = False):
+                 friction: float | FrictionSource, thickness: float, moving: bool = False):
         if shape.code not in DISPATCHED:
             raise ValueError(f"the {shape.name} shape has no branch in shape_distance")
         self.name = f"collide_{shape.name}"
@@ -174,8 +174,8 @@ class ShapeCollider:
         self.center0 = np.asarray(center, dtype=np.float64)
         self.center = self.center0.copy()
         self.params = np.array([*self.center0, *inputs.packed], dtype=np.float64)
-        # the object's own μs, or the scene's as the step's parameters hold it now
-        self._friction = friction if isinstance(friction, StepParams) else float(friction)
+        # μs, or where the step's parameters hold it now
+        self._friction = friction if isinstance(friction, FrictionSource) else float(friction)
         self.thickness = float(thickness)
         self.side = np.ones(model.num_particles)  # a sided shape: each particle's side
         self._sides_known = not shape.sided
@@ -186,7 +186,7 @@ class ShapeCollider:
     @property
     def friction(self) -> float:
         f = self._friction
-        return f.friction if isinstance(f, StepParams) else f
+        return f.value() if isinstance(f, FrictionSource) else f
 
     def center_at(self, t: float) -> np.ndarray:
         return self.center0 + orbit_offset(t) if self.moving else self.center0
@@ -243,7 +243,8 @@ class Floor(ShapeCollider):
     """The original's floor: the half-space below y = height, one-sided (anything below is
     pushed up). The renderer draws it from the scene, so it has no pose."""
 
-    def __init__(self, model, height: float, friction: float | StepParams, thickness: float):
+    def __init__(self, model, height: float, friction: float | FrictionSource,
+                 thickness: float):
         parameters = {"normal": (0.0, 1.0, 0.0)}
         inputs = plane.SHAPE.inputs_of(parameters)
         super().__init__(model, plane.SHAPE, inputs, (0.0, height, 0.0), friction=friction,
@@ -255,11 +256,10 @@ class Floor(ShapeCollider):
         return None
 
 
-def object_collider(model, obj, *, friction: float | StepParams, thickness: float,
+def object_collider(model, obj, *, friction: float | FrictionSource, thickness: float,
                     where: str = "object") -> ShapeCollider:
     """The collider of one validated SceneObject (`where` names it in messages); its
-    `friction` is the object's own, or the step's parameters (the scene's, read as it
-    changes)."""
+    `friction` is a μs, or where the step's parameters hold it (read as it changes)."""
     shape = shape_of(obj.type)
     return ShapeCollider(model, shape, shape.kernel_inputs(obj, model.spacing, thickness, where),
                          obj.center, friction=friction, thickness=thickness,
@@ -324,17 +324,25 @@ def scene_objects(scene) -> list[tuple[str, object]]:
 
 def build_colliders(scene, model, params: StepParams | None = None) -> list[Collider]:
     """Collider effects the scene enables: the floor, then each object of scene_objects.
-    Those without a friction of their own read the scene's from `params` (the scene's own
-    value when none are given)."""
+    With `params` each reads its friction from them as it runs (params.FrictionSource);
+    without, it keeps the scene's numbers."""
     s = scene.scene
-    shared: float | StepParams = s.friction if params is None else params
     out = []
     if s.floor:
-        out.append(Floor(model, s.floor_height, shared, s.thickness))
+        out.append(Floor(model, s.floor_height, _friction(s.friction, params), s.thickness))
     objects = scene_objects(scene)
     for shape in SHAPES.values():
         shape.check_scene([(where, o) for where, o in objects if o.type == shape.name])
+    first = len(objects) - len(scene.objects)  # scene.object comes before [[objects]]
     out += [object_collider(model, o, where=where, thickness=s.thickness,
-                            friction=shared if o.friction < 0 else o.friction)
-            for where, o in objects]
+                            friction=_friction(s.friction if o.friction < 0 else o.friction,
+                                               params, k - first))
+            for k, (where, o) in enumerate(objects)]
     return out
+
+
+def _friction(value: float, params: StepParams | None,
+              index: int = -1) -> float | FrictionSource:
+    """A collider's μs: `value`, or, with the step's `params`, where they hold it (the
+    [[objects]] entry `index`, or the scene's for −1)."""
+    return value if params is None else FrictionSource(params, max(index, -1))

@@ -20,6 +20,7 @@ from ..scene import Scene, SceneError
 from .colliders import ORBIT_PERIOD, Floor, ShapeCollider, build_colliders, scene_objects
 from .forces import wave_rows
 from .model import ClothModel, build_model
+from .params import without_friction
 from .pins import hard_anchors, track_times
 
 WAVE_SAMPLES = 9  # heights of the wave's driven edge checked, from trough to crest
@@ -81,8 +82,8 @@ def held_inputs_differ(a: Scene, b: Scene) -> bool:
 def _held_inputs(scene: Scene) -> tuple:
     b = scene.behavior
     return (dataclasses.replace(scene.cloth, mass=0.0, mass_model="area"),
-            dataclasses.replace(scene.scene, friction=0.0), scene.objects, scene.pins, b.wave,
-            b.wave_amplitude, b.seed)
+            dataclasses.replace(scene.scene, friction=0.0), without_friction(scene.objects),
+            scene.pins, b.wave, b.wave_amplitude, b.seed)
 
 
 def check_start(scene: Scene) -> None:

@@ -73,6 +73,7 @@ class StepParams:
     stiffness: float = 2000.0       # N/m, springs
     spring_damping: float = 0.5     # N·s/m, springs
     material: Material | None = None  # the fabric's numbers (damping, α), None: none
+    object_friction: tuple = ()     # each [[objects]] entry's own μs, −1: the scene's
 
     def __post_init__(self) -> None:
         self.wind_direction = unit(self.wind_direction)
@@ -102,13 +103,28 @@ def _values(scene: Scene) -> dict[str, Any]:
                 friction=scene.scene.friction, damping=b.damping, compliance=b.compliance,
                 iterations=b.iterations, max_speed=b.max_speed, stiffness=b.stiffness,
                 spring_damping=b.spring_damping,
-                material=None if scene.material is None else scene.material.material)
+                material=None if scene.material is None else scene.material.material,
+                object_friction=tuple(o.friction for o in scene.objects))
+
+
+@dataclass(frozen=True)
+class FrictionSource:
+    """Where a collider reads its μs each substep: an [[objects]] entry's own, or (index
+    −1, the floor and scene.object, or an entry without one) the scene's."""
+    params: StepParams
+    index: int = -1
+
+    def value(self) -> float:
+        p = self.params
+        own = p.object_friction[self.index] if self.index >= 0 else -1.0
+        return own if own >= 0 else p.friction
 
 
 def same_structure(a: Scene, b: Scene) -> bool:
     """Whether a step built for `a` runs `b` once given b's StepParams: the scenes differ
     at most in parameters, and those alike in what decides whether their stages exist."""
-    if a.objects != b.objects or a.pins != b.pins or _material_part(a) != _material_part(b):
+    if (without_friction(a.objects) != without_friction(b.objects) or a.pins != b.pins
+            or _material_part(a) != _material_part(b)):
         return False
     for section in SECTIONS:
         if section == "appearance":
@@ -123,6 +139,11 @@ def same_structure(a: Scene, b: Scene) -> bool:
                 if decides is None or decides(va) != decides(vb):
                     return False
     return True
+
+
+def without_friction(objects: list) -> list:
+    """[[objects]] with their friction left out (a parameter: StepParams.object_friction)."""
+    return [dataclasses.replace(o, friction=-1.0) for o in objects]
 
 
 def _material_part(scene: Scene) -> MaterialSection | None:

@@ -11,7 +11,7 @@ from textual.screen import Screen
 from textual.widget import Widget
 
 from ..scene import Scene, SceneError
-from ..sim.held_contacts import check_start
+from ..sim.held_contacts import check_start, held_inputs_differ
 from .help import HelpScreen
 from .panels import Controls, ObjectsPanel, SettingField
 from .pins_panel import PinsPanel
@@ -68,7 +68,8 @@ class PanelActions:
         Enter, move on and let the keys typed after it through."""
         try:
             new = build()
-            check_start(new)
+            if held_inputs_differ(self.scene, new):
+                check_start(new)
         except SceneError as e:
             self.notify(str(e), title=refused, severity="error", timeout=8)
             if message.field is not None:

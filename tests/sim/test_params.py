@@ -49,7 +49,19 @@ def test_every_parameter_key_is_edited_below():
                          ids=[e[1] for e in EDITS + MATERIAL_EDITS])
 def test_an_edited_parameter_runs_as_a_step_built_for_it(settings, key, value):
     before = scene(**{k.replace(".", "__"): v for k, v in {**SMALL, **settings}.items()})
-    after = before.with_value(key, value)
+    assert_taken_live(before, before.with_value(key, value))
+
+
+def test_an_objects_friction_is_taken_live():
+    before = scene(cloth__resolution=8, cloth__pinned="none", scene__floor=False)
+    sphere = {"type": "sphere", "center": [0.0, -0.1, 0.0], "radius": 0.3}
+    assert_taken_live(before.with_objects([{**sphere, "friction": 0.9}]),
+                      before.with_objects([{**sphere, "friction": 0.02}]))
+
+
+def assert_taken_live(before, after):
+    """A run edited from `before` to `after` at its start is the run built for `after`, and
+    not the one built for `before`."""
     assert same_structure(before, after)
     edited = Simulation(before)
     step = edited.step

@@ -9,7 +9,7 @@ import pytest
 
 from cloth_tui.scene import Scene
 from cloth_tui.sim.model import ClothModel
-from cloth_tui.tui.panels import widget_id
+from cloth_tui.tui.panels import ObjectsPanel, widget_id
 
 from .conftest import SIZE, make_app, notifications, run, sim_scene, until
 
@@ -98,4 +98,35 @@ def test_edits_that_move_nothing_held_build_no_model_on_the_ui_thread(tmp_path, 
             assert built_on_ui == []
             assert "wind" in app.sim.sim.step.names
             assert float(app.sim.sim.model.mass.sum()) == pytest.approx(0.5)
+    run(go())
+
+
+def test_an_objects_friction_edit_keeps_the_step_and_builds_no_model_on_the_ui_thread(
+        tmp_path, monkeypatch):
+    ui_thread = threading.get_ident()
+    built_on_ui: list[str] = []
+    init = ClothModel.__init__
+
+    def watched(self, *args, **kwargs):
+        if threading.get_ident() == ui_thread:
+            built_on_ui.append("ClothModel")
+        init(self, *args, **kwargs)
+
+    sphere = {"type": "sphere", "center": [0.0, -0.1, 0.0], "radius": 0.3}
+    scene = Scene().with_value("cloth.resolution", 12).with_objects([sphere])
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.sim is not None, what="the simulation")
+            step = app.sim.sim.step
+            monkeypatch.setattr(ClothModel, "__init__", watched)
+            tables = [dataclasses.asdict(o) for o in app.scene.objects]
+            tables[0]["friction"] = 0.2
+            app.post_message(ObjectsPanel.Changed(tables))
+            await until(pilot, lambda: sim_scene(app).objects[0].friction == 0.2,
+                        what="the object's friction")
+            assert built_on_ui == []
+            assert app.sim.sim.step is step
+            assert [c.friction for c in step.colliders] == [0.9, 0.2]  # the floor's, its own
     run(go())
