@@ -13,20 +13,17 @@ import numpy as np
 
 from ..scene import Behavior, Scene, SceneError, integrator_for
 from . import pipeline
-from .fabric_solve import ProjectFabric, fabric_force_energy
-from .measures import (all_finite, elastic_energy, energy, free_energy,
-                       gravitational_energy, kinetic_energy, per_constraint, potential_floor,
-                       solve_error, stretch)
+from .measures import (all_finite, elastic_energy, free_energy, gravitational_energy,
+                       kinetic_energy, per_constraint, potential_floor, solve_error, stretch)
 from .held_contacts import check_held_particles, held_inputs_differ
 from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
+from .numerical_damping import DampingMeter, asked_loss, measurable, sheet_energy, touching
 from .params import same_structure
 from .pins import with_user_pin
 from .run_stats import FrameStats, RunStats
 from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import PositionBasedSolver
-from .material import damping_factor as decay_factor
-from .stages import damping_factor
 from .tearing import cut_between, strength_tolerance, tear_strength
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
@@ -46,12 +43,6 @@ STRETCH_CONVERGED = 0.1
 ENERGY_GAIN_DIVERGED = 0.05
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
-# A particle closer than this many skins to a collider may be in contact, whose friction and
-# inelastic contacts lose energy the numerical damping must not be blamed for.
-CONTACT_SKINS = 2.0
-# The reported numerical damping is averaged over about this many frames (a swing's
-# exchange of kinetic and potential energy is not exact frame by frame).
-DAMPING_AVERAGE_FRAMES = 30
 
 
 def _material(scene: Scene):
@@ -131,9 +122,7 @@ class Simulation:
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
         self._measured_met: bool | None = None  # fixed substeps: the last stats()' verdict
-        self.frame_damping: float | None = None  # its numerical damping, 1/s (if measurable)
-        self.numerical_damping: float | None = None  # averaged over recent frames, 1/s
-        self._frame_energy: float | None = None  # energy at the end of the last frame, J
+        self.damping_meter = DampingMeter()  # numerical damping of the frames
         self._guard_level = 0
         self._sources = has_energy_source(scene)
         self._find_nearest_pins()
@@ -187,7 +176,7 @@ class Simulation:
         self.scene = scene
         self.step.retune(scene, self.model)
         self._alpha_tilde = None  # α̃ may have changed
-        self._frame_energy = None  # the energy's terms did (gravity): no damping across it
+        self.damping_meter.forget()  # the energy's terms did (gravity): no damping across it
         self.halted = None
 
     def reset(self) -> None:
@@ -205,7 +194,7 @@ class Simulation:
         if self._finite():  # (a state broken between frames falls back further)
             self._good.restore(self.state)  # the frame's start, with bumps since the last
         e0 = self._energy_scale() if self._watch_energy() else None
-        e_start = self._energy_at_start()
+        e_start = self.damping_meter.begin(self._damping_measurable(), self._energy)
         self._run_frame()
         while not self.halted:
             problem = self._problem(e0)
@@ -226,9 +215,9 @@ class Simulation:
             self.penetration = max(self.penetration, self.step.penetration(self.state.x))
         if not self.halted:  # (not adaptive: it only records whether the frame met them)
             planned = self.control.substeps
-            if self.control.accept(self.frame_error, self.frame_damping) != planned:
+            if self.control.accept(self.frame_error, self.damping_meter.frame) != planned:
                 self._build_step()
-        self._average_damping()
+        self.damping_meter.report(bool(self.halted))
         if self._guard_level and self.frames % GUARD_EASE_FRAMES == 0 and not self.halted:
             self._guard_level -= 1  # try fewer substeps again now and then
             self._build_step()
@@ -243,55 +232,39 @@ class Simulation:
 
     def _redo_for_accuracy(self, e_start: float | None) -> int | None:
         """Measure the frame's solve error and numerical damping and ask the controller."""
-        self.frame_damping = self._frame_damping(e_start)
+        self._measure_damping(e_start)
         if not self.control.adaptive or not self.model.num_constraints:
             return None
         self.frame_error = self._solve_error()
         return self.control.redo_with(self.frame_error)
 
-    # -- numerical damping ------------------------------------------------------------------
+    # -- numerical damping (numerical_damping.py) -----------------------------------------
+    @property
+    def numerical_damping(self) -> float | None:
+        """Averaged over recent frames, 1/s; None while not measurable."""
+        return self.damping_meter.average
+
     def _damping_measurable(self) -> bool:
-        """Whether all the energy a frame loses is either asked for (behavior.damping) or
-        numerical: no source adds any, no contact or soft pin takes any, and the sheet's
-        lowest reachable energy is bounded (pins or a floor)."""
-        sc, m = self.scene, self.model
-        if self._sources or sc.behavior.self_collision != "off" or not self.step.effects:
-            return False
-        if sc.behavior.solver == "springs" and sc.behavior.spring_damping > 0.0:
-            return False
-        if m.pin_layout is not None and len(m.pin_layout.soft.index):
-            return False
-        return self._pin_distance is not None or sc.scene.floor or not sc.forces.gravity
+        return measurable(self.scene, self.model, bool(self.step.effects), self._sources,
+                          self._pin_distance is not None)
 
-    def _touching(self) -> bool:
-        x = self.state.x
-        return any(float(c.signed_distance(x).min()) < CONTACT_SKINS * c.thickness
-                   for c in self.step.colliders)
-
-    def _energy_at_start(self) -> float | None:
-        if not self._damping_measurable():
-            self._frame_energy = None
-            return None
-        if self._frame_energy is None:
-            self._frame_energy = self._energy()
-        return self._frame_energy
-
-    def _frame_damping(self, e_start: float | None) -> float | None:
-        """Numerical damping of the frame just run, 1/s: the energy it lost beyond what
-        behavior.damping took, as a share of the free energy at its start per second.
-        None where it cannot be told apart (_damping_measurable, or a contact)."""
-        if e_start is None or self.state.torn != self._good.torn or self._touching():
-            self._frame_energy = None
-            return None
+    def _measure_damping(self, e_start: float | None) -> None:
+        """The numerical damping of the frame just run, where it can be told apart."""
+        if e_start is None or self.state.torn != self._good.torn \
+                or touching(self.step.colliders, self.state.x):
+            self.damping_meter.unmeasured()
+            return
         floor = potential_floor(self.model, self._good, self.scene, self._pin_distance,
                                 self._nearest_pin)
         if floor is None:
-            return None
-        e_end = self._energy()
-        self._frame_energy = e_end
-        lost = e_start - e_end - self._asked_damping_loss()
-        dt = 1.0 / self.scene.behavior.frame_rate
-        return lost / (free_energy(e_start, floor, self.model) * dt)
+            self.damping_meter.unmeasured()
+            return
+        m = self.model
+        asked = asked_loss(m, self.scene, self.step.h, self.step.substeps,
+                           kinetic_energy(m, self._good), kinetic_energy(m, self.state))
+        self.damping_meter.end(e_start, self._energy(), asked,
+                               free_energy(e_start, floor, m),
+                               1.0 / self.scene.behavior.frame_rate)
 
     def free_energy(self) -> float | None:
         """The energy the sheet could still give up now, J (measures.free_energy), or None
@@ -299,31 +272,6 @@ class Simulation:
         floor = potential_floor(self.model, self.state, self.scene, self._pin_distance,
                                 self._nearest_pin)
         return None if floor is None else free_energy(self._energy(), floor, self.model)
-
-    def _asked_damping_loss(self) -> float:
-        """The kinetic energy the damping key took over the frame, J (behavior.damping, or
-        a material's own damping rate, which replaces it): per substep v ← k·v takes
-        (1 − k²) of it; taken at the mean of the frame's start and end."""
-        fabric = self.model.fabric
-        k = (decay_factor(fabric.material.damping, self.step.h) if fabric is not None
-             else damping_factor(self.scene.behavior.damping, self.step.h))
-        if k == 1.0:
-            return 0.0
-        mean_ke = 0.5 * (kinetic_energy(self.model, self._good)
-                         + kinetic_energy(self.model, self.state))
-        return self.step.substeps * (1.0 - k * k) * mean_ke
-
-    def _average_damping(self) -> None:
-        """The reported numerical damping: an average over recent frames (None while not
-        measurable)."""
-        d = self.frame_damping
-        if d is None or self.halted:
-            self.numerical_damping = None
-            return
-        if self.numerical_damping is None:
-            self.numerical_damping = d
-        else:
-            self.numerical_damping += (d - self.numerical_damping) / DAMPING_AVERAGE_FRAMES
 
     def _watch_energy(self) -> bool:
         return self.scene.behavior.solver == "springs" and not self._sources
@@ -408,7 +356,7 @@ class Simulation:
         w[m.inv_mass[idx] == 0.0] = 0.0
         self.state.x[idx] += w[:, None] * d
         self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
-        self._frame_energy = None  # the user's push is no numerical damping
+        self.damping_meter.forget()  # the user's push is no numerical damping
 
     def pin(self, particle: int, position) -> None:
         """Hold `particle` exactly at `position` until the sheet is rebuilt (the app's pin
@@ -432,7 +380,7 @@ class Simulation:
         self.model = model
         self._good, self._trial = st.copy(), st.copy()
         self._find_nearest_pins()
-        self._frame_energy = None  # the pin moved a particle: a jump no step made
+        self.damping_meter.forget()  # the pin moved a particle: a jump no step made
         self._build_step()
 
     def cut(self, p0: int, p1: int) -> int:
@@ -444,13 +392,6 @@ class Simulation:
         return cut_between(self.model, self.state, int(p0), int(p1))
 
     # -- reporting ------------------------------------------------------------------------
-    def _lambdas(self) -> np.ndarray | None:
-        """The xpbd multipliers of the last substep (the solver's force estimate)."""
-        solver = self.step.solver
-        if self.scene.behavior.solver == "xpbd" and isinstance(solver, PositionBasedSolver):
-            return solver.lambdas
-        return None
-
     def _alpha_tilde_now(self) -> np.ndarray:
         """α̃ = α/h² of the step's constraints, one per constraint (0 for pbd and springs),
         made once per step."""
@@ -469,15 +410,8 @@ class Simulation:
                            self._alpha_tilde_now())
 
     def _energy(self) -> float:
-        solver = self.step.solver
-        if isinstance(solver, PositionBasedSolver) and isinstance(solver.projection,
-                                                                  ProjectFabric):
-            # a material stores energy in its shear cells and bending stencils too
-            m, st = self.model, self.state
-            return (kinetic_energy(m, st) + gravitational_energy(m, st, self.scene)
-                    + fabric_force_energy(solver.projection, self.step.h))
-        return energy(self.model, self.state, self.scene, self._lambdas(), self.step.h,
-                      self._alpha_tilde_now())
+        return sheet_energy(self.model, self.state, self.scene, self.step.solver, self.step.h,
+                            self._alpha_tilde_now())
 
     def frame_stats(self) -> FrameStats:
         """The statistics cheap enough for every frame."""

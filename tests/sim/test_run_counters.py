@@ -24,7 +24,7 @@ def halt(sim: Simulation) -> None:
 
 def counters(sim: Simulation) -> dict:
     s = sim.stats()
-    return {k: s[k] for k in ("frames", "wall_s", "recoveries", "penetration", "halted")}
+    return {k: getattr(s, k) for k in ("frames", "wall_s", "recoveries", "penetration", "halted")}
 
 
 AT_START = {"frames": 0, "wall_s": 0.0, "recoveries": 0, "penetration": 0.0,
