@@ -13,14 +13,19 @@ import threading
 import time
 from collections import deque
 from dataclasses import dataclass
+from enum import Enum
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from ..newest_slot import NewestSlot
 from ..sim.run_stats import RunStats
 from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
 from .probe import RendererUnavailable
+
+if TYPE_CHECKING:
+    from ..sim.runner import Snapshot
 
 VIDEO_FPS = 30.0
 MAX_REPEAT = 5              # frames a slow render may be repeated to keep the video in time
@@ -39,10 +44,20 @@ class Frame:
     sim_stats: RunStats
 
 
+class CaptureKind(Enum):
+    """What a CaptureEvent tells the app."""
+    SCREENSHOT = "screenshot"        # saved at `path`
+    VIDEO_STARTED = "video_started"  # recording to `path`
+    VIDEO_SAVED = "video_saved"      # saved at `path`
+    VIDEO_EMPTY = "video_empty"      # recording stopped with no frame: no file
+    ERROR = "error"                  # a capture or the preview file failed (`message`)
+    UNAVAILABLE = "unavailable"      # no renderer on this machine (`message` says why)
+    NOTICE = "notice"                # a warning that stops nothing (a truncated texture)
+
+
 @dataclass(frozen=True)
 class CaptureEvent:
-    kind: str  # 'screenshot' | 'video_started' | 'video_saved' | 'video_empty' | 'error'
-    #            | 'unavailable' | 'notice'
+    kind: CaptureKind
     path: Path | None
     message: str
 
@@ -58,8 +73,7 @@ class RenderService:
         self.on_frame = on_frame
         self.on_event = on_event
         self._want_preview = preview_file
-        self._lock = threading.Lock()
-        self._pending = None                   # newest snapshot not yet drawn
+        self._snapshots: NewestSlot[Snapshot] = NewestSlot()  # offered, not yet drawn
         self._commands: deque[Callable[[], bool]] = deque()
         self._wake = threading.Event()
         self._stopping = threading.Event()
@@ -94,8 +108,7 @@ class RenderService:
         """Offer a snapshot; if several arrive before the thread is free, the newest wins."""
         if snapshot is None:
             return
-        with self._lock:
-            self._pending = snapshot
+        self._snapshots.put(snapshot)
         self._wake.set()
 
     def update_scene(self, scene) -> None:
@@ -167,7 +180,7 @@ class RenderService:
             self.error = e
             self._recording = False
             reason = str(e) if isinstance(e, RendererUnavailable) else f"{type(e).__name__}: {e}"
-            self._emit("unavailable", None, reason)
+            self._emit(CaptureKind.UNAVAILABLE, None, reason)
             return
         self._start_preview()
         self._report_textures()
@@ -190,9 +203,8 @@ class RenderService:
             try:
                 redraw |= bool(self._commands.popleft()())
             except Exception as e:
-                self._emit("error", None, f"{type(e).__name__}: {e}")
-        with self._lock:
-            snapshot, self._pending = self._pending, None
+                self._emit(CaptureKind.ERROR, None, f"{type(e).__name__}: {e}")
+        snapshot = self._snapshots.take()
         if snapshot is None and redraw:
             snapshot = self._last_snapshot  # camera/appearance moved: draw the same frame
         if snapshot is not None:
@@ -206,7 +218,7 @@ class RenderService:
     def _report_textures(self) -> None:
         notices, self._renderer.texture_notices = self._renderer.texture_notices, []
         for text in notices:
-            self._emit("notice", None, text)
+            self._emit(CaptureKind.NOTICE, None, text)
 
     def _draw(self, snapshot) -> None:
         t0 = time.perf_counter()
@@ -216,7 +228,7 @@ class RenderService:
         try:
             image = self._renderer.render(snapshot, auto_rotate_deg=turn)
         except Exception as e:
-            self._emit("error", None, f"render failed: {type(e).__name__}: {e}")
+            self._emit(CaptureKind.ERROR, None, f"render failed: {type(e).__name__}: {e}")
             time.sleep(0.1)  # do not spin on a persistent failure
             return
         ms = (time.perf_counter() - t0) * 1e3
@@ -227,12 +239,12 @@ class RenderService:
             except CaptureError as e:
                 self._video = None
                 self._recording = False
-                self._emit("error", None, str(e))
+                self._emit(CaptureKind.ERROR, None, str(e))
         if self._preview is not None:
             try:
                 self._preview.offer(image)
             except CaptureError as e:
-                self._emit("error", None, f"preview file: {e}")
+                self._emit(CaptureKind.ERROR, None, f"preview file: {e}")
         if self.on_frame is not None:
             try:
                 self.on_frame(Frame(image, int(snapshot.frame), ms, snapshot.stats))
@@ -270,7 +282,7 @@ class RenderService:
         try:
             self._preview = PreviewFile(ensure_folder(self.captures_dir))
         except CaptureError as e:
-            self._emit("error", None, f"preview file disabled: {e}")
+            self._emit(CaptureKind.ERROR, None, f"preview file disabled: {e}")
 
     def capture_size(self, height: int) -> tuple[int, int]:
         """A capture `height` pixels tall framed like the preview (its aspect ratio), with
@@ -283,7 +295,7 @@ class RenderService:
         """Draw the newest frame again at SCREENSHOT_HEIGHT (the preview is only as many
         pixels as the terminal has cells) and save it."""
         if self._last_snapshot is None:
-            self._emit("error", None, "screenshot: nothing has been drawn yet")
+            self._emit(CaptureKind.ERROR, None, "screenshot: nothing has been drawn yet")
             return False
         r = self._renderer
         shown = r.size
@@ -297,9 +309,9 @@ class RenderService:
             folder = ensure_folder(self.captures_dir)
             path = save_png(image, timestamped(folder, "cloth", ".png"))
         except CaptureError as e:
-            self._emit("error", None, str(e))
+            self._emit(CaptureKind.ERROR, None, str(e))
             return False
-        self._emit("screenshot", path, f"saved {path}")
+        self._emit(CaptureKind.SCREENSHOT, path, f"saved {path}")
         return False
 
     def _do_start_video(self) -> bool:
@@ -314,9 +326,9 @@ class RenderService:
             self._renderer.resize(*size)  # the preview shows the same, larger picture
         except CaptureError as e:
             self._recording = False
-            self._emit("error", None, str(e))
+            self._emit(CaptureKind.ERROR, None, str(e))
             return False
-        self._emit("video_started", self._video.path, f"recording to {self._video.path}")
+        self._emit(CaptureKind.VIDEO_STARTED, self._video.path, f"recording to {self._video.path}")
         return True  # draw the last picture again: a paused simulation still gets a frame
 
     def _do_stop_video(self) -> bool:
@@ -332,16 +344,16 @@ class RenderService:
         self._renderer.resize(*self._size)
         if video.frames == 0:  # nothing was drawn while recording: no empty file
             video.discard()
-            self._emit("video_empty", None, "nothing was drawn while recording; no video saved")
+            self._emit(CaptureKind.VIDEO_EMPTY, None, "nothing was drawn while recording; no video saved")
             return
         try:
             path = video.close()
         except CaptureError as e:
-            self._emit("error", video.partial, str(e))
+            self._emit(CaptureKind.ERROR, video.partial, str(e))
             return
-        self._emit("video_saved", path, f"saved {path} ({video.frames} frames)")
+        self._emit(CaptureKind.VIDEO_SAVED, path, f"saved {path} ({video.frames} frames)")
 
-    def _emit(self, kind: str, path: Path | None, message: str) -> None:
+    def _emit(self, kind: CaptureKind, path: Path | None, message: str) -> None:
         if self.on_event is not None:
             try:
                 self.on_event(CaptureEvent(kind, path, message))

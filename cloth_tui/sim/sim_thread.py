@@ -8,6 +8,7 @@ import time
 from collections import deque
 from typing import Callable
 
+from ..newest_slot import NewestSlot
 from ..scene import Scene
 from .run_stats import RunStats
 from .runner import Simulation, Snapshot
@@ -37,8 +38,7 @@ class SimulationThread:
         self._commands: deque[Callable[[Simulation], None]] = deque()
         self._stop = threading.Event()
         self._wake = threading.Event()
-        self._lock = threading.Lock()
-        self._latest = self.sim.snapshot()
+        self._latest: NewestSlot[Snapshot] = NewestSlot(self.sim.snapshot())
         self._stats: RunStats | None = None  # the last full statistics published, and when
         self._stats_t = 0.0
         self._thread = threading.Thread(target=self._run, name="cloth-sim", daemon=True)
@@ -65,8 +65,7 @@ class SimulationThread:
 
     @property
     def latest(self) -> Snapshot:
-        with self._lock:
-            return self._latest
+        return self._latest.newest
 
     def _publish(self, full: bool) -> None:
         """Positions every frame; the full statistics (per-edge stretch, energy: a pass over
@@ -79,8 +78,7 @@ class SimulationThread:
             self._stats, self._stats_t = snap.stats, now
         else:
             snap = self.sim.snapshot(self._stats)
-        with self._lock:
-            self._latest = snap
+        self._latest.put(snap)
         if self.on_snapshot is not None:
             self.on_snapshot(snap)
 

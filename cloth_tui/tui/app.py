@@ -25,10 +25,13 @@ from textual.widgets import Footer, Input
 from textual.widgets._select import SelectOverlay
 
 from ..compile_notice import CompileWatch
+from ..newest_slot import NewestSlot
+from ..render.service import Frame
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
 from ..sim.held_contacts import check_start, held_inputs_differ
+from ..sim.runner import Snapshot
 from ..sim.sim_thread import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
@@ -95,10 +98,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
             self.readout.graphics = graphics.label
         self.sim: SimulationThread | None = None
         self.renderer: Any = None
-        self._snap_box: Any = None
-        self._snap_posted = False
-        self._frame_box: Any = None
-        self._frame_posted = False
+        self._snapshots: NewestSlot[Snapshot] = NewestSlot()  # from the simulation thread
+        self._frames: NewestSlot[Frame] = NewestSlot()        # from the render thread
         self._grabbed: int | None = None
         self._cut_at: int | None = None  # the particle the knife (right-drag) last passed
         self._zoom = 1.0
@@ -196,15 +197,11 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
             return
         if self.renderer is not None:
             self.renderer.submit(snap)
-        self._snap_box = snap
-        if not self._snap_posted:
-            self._snap_posted = True
+        if self._snapshots.put(snap):
             self.post_message(SimUpdated())
 
     def _on_frame(self, frame) -> None:
-        self._frame_box = frame
-        if not self._frame_posted:
-            self._frame_posted = True
+        if self._frames.put(frame):
             self.post_message(FrameReady())
 
     def _on_event(self, event) -> None:
@@ -212,8 +209,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
 
     # -- messages -------------------------------------------------------------------------
     def on_sim_updated(self, _: SimUpdated) -> None:
-        self._snap_posted = False
-        snap = self._snap_box
+        snap = self._snapshots.take()
         if snap is not None and self.sim is not None:
             self.readout.on_snapshot(snap.frame, snap.stats)
             halted = snap.stats.halted
@@ -222,8 +218,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
             self._halt_told = halted
 
     def on_frame_ready(self, _: FrameReady) -> None:
-        self._frame_posted = False
-        frame = self._frame_box
+        frame = self._frames.take()
         preview = self._shown_preview()
         if frame is None or preview is None:
             return

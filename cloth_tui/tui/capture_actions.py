@@ -13,6 +13,7 @@ from typing import Any, Callable
 from textual import events
 
 from ..render.capture import timestamped
+from ..render.service import CaptureKind
 from ..scene import Scene, SceneError
 from ..scene_files import save as save_scene
 from ..sim.sim_thread import SimulationThread
@@ -57,20 +58,20 @@ class CaptureActions:
 
     def on_captured(self, message: Captured) -> None:
         ev = message.event
-        if ev.kind == "unavailable":
+        if ev.kind == CaptureKind.UNAVAILABLE:
             self._show_no_preview(ev.message)
-        elif ev.kind == "error":
+        elif ev.kind == CaptureKind.ERROR:
             self.notify(ev.message or "capture failed", title="Capture failed",
                         severity="error", timeout=10)
-        elif ev.kind == "screenshot":
+        elif ev.kind == CaptureKind.SCREENSHOT:
             self.notify(f"Screenshot saved: {ev.path}{self.download(ev.path)}")
-        elif ev.kind == "video_started":
+        elif ev.kind == CaptureKind.VIDEO_STARTED:
             self.notify(f"Recording to {ev.path}" if ev.path else "Recording…")
-        elif ev.kind == "video_saved":
+        elif ev.kind == CaptureKind.VIDEO_SAVED:
             self.notify(f"Video saved: {ev.path}{self.download(ev.path)}")
-        elif ev.kind == "video_empty":
+        elif ev.kind == CaptureKind.VIDEO_EMPTY:
             self.notify(f"Nothing recorded: {ev.message}", severity="warning")
-        elif ev.kind == "notice":
+        elif ev.kind == CaptureKind.NOTICE:
             self.notify(ev.message, severity="warning", timeout=10)
         self._refresh_status()
 

@@ -55,8 +55,7 @@ class PixelPreview(Preview):
         super().__init__(id=id)
         self.graphics = graphics
         self.encoder = FrameEncoder(codec_for(graphics.mode), self._on_encoded)
-        self._encoded_box: Encoded | None = None
-        self._painted_posted = False
+        self._encoded: NewestSlot[Encoded] = NewestSlot()  # from the encoding thread
         self._shown_on_terminal = False
         self._layout_now: Layout | None = None  # the layout the picture on screen is in
         self._fill = DEFAULT_FILL
@@ -166,15 +165,12 @@ class PixelPreview(Preview):
 
     # -- encoded frames (posted from the encoding thread) -----------------------------------
     def _on_encoded(self, encoded: Encoded) -> None:
-        self._encoded_box = encoded
-        if not self._painted_posted:
-            self._painted_posted = True
+        if self._encoded.put(encoded):
             self.post_message(self.Painted())
 
     def on_pixel_preview_painted(self, message: "PixelPreview.Painted") -> None:
         message.stop()
-        self._painted_posted = False
-        encoded, self._encoded_box = self._encoded_box, None
+        encoded = self._encoded.take()
         if encoded is None:
             return
         codec = self.encoder.codec

@@ -5,7 +5,7 @@ import time
 import numpy as np
 import pytest
 
-from cloth_tui.render.service import CaptureEvent, Frame, RenderService
+from cloth_tui.render.service import CaptureEvent, CaptureKind, Frame, RenderService
 
 from .helpers import draped, scene_with
 from .test_capture import count_frames
@@ -29,7 +29,7 @@ class Collector:
             e = self.events.get(timeout=timeout)
             if e.kind == kind:
                 return e
-            assert e.kind != "error", e.message
+            assert e.kind != CaptureKind.ERROR, e.message
 
 
 @pytest.fixture
@@ -51,7 +51,7 @@ def test_renders_on_its_own_thread_and_saves_screenshots(service):
     assert frame.image.shape == (72, 96, 3) and frame.frame == snap.frame
     assert frame.render_ms > 0 and got.threads == {"cloth-render"}
     service.screenshot()
-    shot = got.event("screenshot")
+    shot = got.event(CaptureKind.SCREENSHOT)
     assert shot.path.exists() and shot.path.suffix == ".png"
     assert (shot.path.parent / "preview.png").exists()
     # Drawn again at 720 px, framed like the 96×72 preview; the preview keeps its size.
@@ -122,7 +122,7 @@ def test_recording_makes_a_video(service):
     got.frames.get(timeout=30)
     service.toggle_recording()
     assert service.recording
-    started = got.event("video_started")
+    started = got.event(CaptureKind.VIDEO_STARTED)
     t0 = time.monotonic()
     for k in range(8):
         service.submit(draped(scene_with(), sag=0.02 * k, frame=k + 2))
@@ -131,7 +131,7 @@ def test_recording_makes_a_video(service):
     elapsed = time.monotonic() - t0
     service.stop_recording()
     assert not service.recording
-    saved = got.event("video_saved")
+    saved = got.event(CaptureKind.VIDEO_SAVED)
     # Real time at 30 fps: frames are repeated or skipped to match the wall clock.
     assert saved.path == started.path
     import imageio.v3 as iio
@@ -156,7 +156,7 @@ def test_stop_finishes_a_running_video(tmp_path):
         svc.submit(draped(scene_with(), sag=0.05 * k, frame=k))
         got.frames.get(timeout=30)
     svc.stop(timeout=10)
-    saved = got.event("video_saved")
+    saved = got.event(CaptureKind.VIDEO_SAVED)
     assert count_frames(saved.path) >= 1 and not (tmp_path / "preview.png").exists()
 
 
@@ -167,14 +167,14 @@ def test_unwritable_captures_folder_reports_an_error(tmp_path):
     svc = RenderService(scene_with(), (32, 24), blocker / "captures", got.on_frame,
                         got.on_event).start()
     try:
-        assert got.events.get(timeout=30).kind == "error"  # preview file disabled
+        assert got.events.get(timeout=30).kind == CaptureKind.ERROR  # preview file disabled
         svc.submit(draped(scene_with()))
         got.frames.get(timeout=10)  # still renders
         svc.screenshot()
         error = got.events.get(timeout=10)
-        assert error.kind == "error" and "\n" not in error.message
+        assert error.kind == CaptureKind.ERROR and "\n" not in error.message
         svc.start_recording()
-        assert got.events.get(timeout=10).kind == "error"
+        assert got.events.get(timeout=10).kind == CaptureKind.ERROR
         assert not svc.recording
     finally:
         svc.stop(timeout=10)

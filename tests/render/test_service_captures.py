@@ -5,7 +5,7 @@ that cannot be drawn gives a notice and an untextured cloth, never a dead render
 import numpy as np
 import pytest
 
-from cloth_tui.render.service import RenderService
+from cloth_tui.render.service import CaptureKind, RenderService
 
 from . import pngs
 from .helpers import draped, scene_with
@@ -28,17 +28,17 @@ def test_paused_recording_holds_the_still_picture(service):
     service.submit(draped(scene_with()))
     service.got.frames.get(timeout=30)
     service.start_recording()  # no snapshot comes after this: the simulation is paused
-    service.got.event("video_started")
+    service.got.event(CaptureKind.VIDEO_STARTED)
     service.stop_recording()
-    saved = service.got.event("video_saved")
+    saved = service.got.event(CaptureKind.VIDEO_SAVED)
     assert count_frames(saved.path) >= 1
 
 
 def test_recording_with_nothing_drawn_saves_no_file(service, tmp_path):
     service.start_recording()
-    service.got.event("video_started")
+    service.got.event(CaptureKind.VIDEO_STARTED)
     service.stop_recording()
-    empty = service.got.event("video_empty")
+    empty = service.got.event(CaptureKind.VIDEO_EMPTY)
     assert "no video saved" in empty.message
     assert not list((tmp_path / "captures").glob("*.mp4"))
 
@@ -54,13 +54,13 @@ def test_a_broken_texture_is_a_notice_and_captures_still_work(tmp_path):
     try:
         svc.submit(draped(scene))
         got.frames.get(timeout=30)
-        notice = got.event("notice")
+        notice = got.event(CaptureKind.NOTICE)
         assert "cut.png" in notice.message and "drawn without it" in notice.message
         svc.screenshot()
-        assert got.event("screenshot").path.exists()
+        assert got.event(CaptureKind.SCREENSHOT).path.exists()
         svc.start_recording()
-        got.event("video_started")
+        got.event(CaptureKind.VIDEO_STARTED)
         svc.stop_recording()
-        assert count_frames(got.event("video_saved").path) >= 1
+        assert count_frames(got.event(CaptureKind.VIDEO_SAVED).path) >= 1
     finally:
         svc.stop(timeout=10)

@@ -5,27 +5,11 @@ the particles (x right, y up) and records what the app asked of it."""
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from cloth_tui.sim.run_stats import RunStats
-
-
-@dataclass
-class Frame:
-    image: np.ndarray
-    frame: int
-    render_ms: float
-    sim_stats: RunStats = field(default_factory=RunStats)
-
-
-@dataclass
-class CaptureEvent:
-    kind: str
-    path: Path | None
-    message: str
+from cloth_tui.render.service import CaptureEvent, CaptureKind, Frame  # GL-free
 
 
 def _rgb(hex_colour: str) -> np.ndarray:
@@ -87,15 +71,15 @@ class FakeRenderService:
     def screenshot(self):
         self.calls.append(("screenshot",))
         path = self.captures_dir / f"shot-{len(self.calls)}.png"
-        self._event(CaptureEvent("screenshot", path, "saved"))
+        self._event(CaptureEvent(CaptureKind.SCREENSHOT, path, "saved"))
 
     def start_recording(self):
         self.recording = True
-        self._event(CaptureEvent("video_started", self.captures_dir / "video.mp4", ""))
+        self._event(CaptureEvent(CaptureKind.VIDEO_STARTED, self.captures_dir / "video.mp4", ""))
 
     def stop_recording(self):
         self.recording = False
-        self._event(CaptureEvent("video_saved", self.captures_dir / "video.mp4", ""))
+        self._event(CaptureEvent(CaptureKind.VIDEO_SAVED, self.captures_dir / "video.mp4", ""))
 
     def toggle_recording(self):
         (self.stop_recording if self.recording else self.start_recording)()

@@ -14,7 +14,7 @@ from cloth_tui.tui.panels import all_panel_keys, widget_id
 from cloth_tui.tui.preview import SCALE
 
 from .conftest import SIZE, make_app, notifications, run, sim_scene, until
-from .fakes import CaptureEvent
+from .fakes import CaptureEvent, CaptureKind
 
 
 async def _type_into(pilot, app, dotted: str, text: str) -> Input:
@@ -215,7 +215,7 @@ def test_captures_and_failures_are_reported(tmp_path):
             await pilot.press("v")
             assert not app.renderer.recording
             await until(pilot, lambda: any("Video saved" in m for m in notifications(app)))
-            app.renderer.on_event(CaptureEvent("error", None, "disk full"))
+            app.renderer.on_event(CaptureEvent(CaptureKind.ERROR, None, "disk full"))
             await until(pilot, lambda: "disk full" in notifications(app))
             app.sim.error = RuntimeError("boom")
             app._on_snapshot(None)

@@ -36,14 +36,14 @@ def test_scene_save_on_a_full_disk_says_so_and_leaves_nothing(tmp_path, monkeypa
 
 
 def test_texture_notice_and_empty_recording_are_shown(tmp_path):
-    from .fakes import CaptureEvent
+    from .fakes import CaptureEvent, CaptureKind
 
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
-            app.renderer._event(CaptureEvent("notice", None, "texture cut.png: truncated; "
+            app.renderer._event(CaptureEvent(CaptureKind.NOTICE, None, "texture cut.png: truncated; "
                                              "drawn without it"))
-            app.renderer._event(CaptureEvent("video_empty", None, "nothing was drawn"))
+            app.renderer._event(CaptureEvent(CaptureKind.VIDEO_EMPTY, None, "nothing was drawn"))
             await until(pilot, lambda: len(notifications(app)) >= 2)
             shown = notifications(app)
             assert any("cut.png" in m and "drawn without it" in m for m in shown)

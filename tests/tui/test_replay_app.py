@@ -93,9 +93,9 @@ def test_a_click_on_the_timeline_scrubs_and_the_preview_shows_that_frame(tmp_pat
             np.testing.assert_array_equal(app.renderer.snapshot.positions,
                                           bake.positions(target + 1))
             # what the preview shows is the picture of those positions, not of frame 1
-            await until(pilot, lambda: app._frame_box is not None
-                        and app._frame_box.frame == target + 1, what="the frame drawn")
-            assert np.array_equal(app._frame_box.image, app.renderer.render())
+            await until(pilot, lambda: app._frames.newest is not None
+                        and app._frames.newest.frame == target + 1, what="the frame drawn")
+            assert np.array_equal(app._frames.newest.image, app.renderer.render())
             assert not np.allclose(bake.positions(1), bake.positions(target + 1))
             # a drag to the start scrubs back
             await pilot.mouse_down(Timeline, offset=(x, 0))

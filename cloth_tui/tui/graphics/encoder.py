@@ -15,6 +15,7 @@ from typing import Any, Callable, Protocol
 
 import numpy as np
 
+from ...newest_slot import NewestSlot
 from . import kitty, sixel
 from .layout import Layout
 
@@ -71,10 +72,8 @@ class FrameEncoder:
         self.codec = codec
         self.on_encoded = on_encoded
         self.crosshair_arm = crosshair_arm
-        self.dropped = 0  # frames replaced before they were encoded
         self.encoded = 0
-        self._job: Job | None = None
-        self._lock = threading.Lock()
+        self._jobs: NewestSlot[Job] = NewestSlot()
         self._wake = threading.Event()
         self._stopping = threading.Event()
         self._thread = threading.Thread(target=self._run, name="cloth-encode", daemon=True)
@@ -83,11 +82,13 @@ class FrameEncoder:
         self._thread.start()
         return self
 
+    @property
+    def dropped(self) -> int:
+        """Frames replaced before they were encoded."""
+        return self._jobs.dropped
+
     def offer(self, job: Job) -> None:
-        with self._lock:
-            if self._job is not None:
-                self.dropped += 1
-            self._job = job
+        self._jobs.put(job)
         self._wake.set()
 
     def stop(self, timeout: float = 1.0) -> None:
@@ -102,8 +103,7 @@ class FrameEncoder:
             self._wake.clear()
             if self._stopping.is_set():
                 return
-            with self._lock:
-                job, self._job = self._job, None
+            job = self._jobs.take()
             if job is None:
                 continue
             t0 = time.perf_counter()
