@@ -257,8 +257,12 @@ class Scene:
         return new
 
     def with_objects(self, objects: list[dict[str, Any]]) -> "Scene":
-        """A validated copy whose [[objects]] are `objects` (tables as in a scene file)."""
-        return from_dict({**to_dict(self), "objects": objects}, self.name)
+        """A validated copy whose [[objects]] are `objects` (tables as in a scene file); the
+        other sections, valid already, are copied rather than read again."""
+        new = self.copy()
+        new.objects = _objects_from_list(objects)
+        validate(new)
+        return new
 
     def with_pins(self, pins: list[dict[str, Any]]) -> "Scene":
         """A validated copy whose [[pins]] are `pins` (tables as in a scene file)."""
@@ -497,6 +501,14 @@ def _section_from_dict(cls: type, data: Any, where: str) -> Any:
     return obj
 
 
+def _objects_from_list(v: Any) -> list[SceneObject]:
+    if not isinstance(v, list):
+        raise SceneError("objects must be an array of tables ([[objects]])")
+    if len(v) > 64:
+        raise SceneError(f"objects: {len(v)} objects; at most 64 are allowed")
+    return [_section_from_dict(SceneObject, o, f"objects[{i}]") for i, o in enumerate(v)]
+
+
 def from_dict(data: dict, name: str = "scene") -> Scene:
     if not isinstance(data, dict):
         raise SceneError("a scene must be a table of sections")
@@ -505,12 +517,7 @@ def from_dict(data: dict, name: str = "scene") -> Scene:
         if k in SECTION_TYPES:
             setattr(scene, k, _section_from_dict(SECTION_TYPES[k], v, k))
         elif k == "objects":
-            if not isinstance(v, list):
-                raise SceneError("objects must be an array of tables ([[objects]])")
-            if len(v) > 64:
-                raise SceneError(f"objects: {len(v)} objects; at most 64 are allowed")
-            scene.objects = [_section_from_dict(SceneObject, o, f"objects[{i}]")
-                             for i, o in enumerate(v)]
+            scene.objects = _objects_from_list(v)
         elif k == "pins":
             scene.pins = groups_from_list(v)
         elif k == "material":

@@ -23,10 +23,14 @@ import time
 from pathlib import Path
 
 # (key, two values it alternates between); the parameters the running step reads, and a
-# key that changes the step (wind on/off) for comparison
+# key that changes the step (wind on/off) for comparison; then an object's friction, edited
+# in the objects panel
 KEYS = [("forces.wind_strength", 3.0, 5.0), ("forces.gravity_strength", 9.81, 4.0),
         ("scene.friction", 0.9, 0.3), ("behavior.damping", 0.03, 0.1),
         ("forces.wind", True, False)]
+
+
+SPHERE = {"type": "sphere", "center": [0.0, -0.1, 0.0], "radius": 0.3}
 
 
 def _no_renderer(**_):
@@ -38,9 +42,9 @@ async def _measure(edits: int) -> dict[str, tuple[list[float], list[float]]]:
     from cloth_tui.tui.app import ClothApp
     from textual.widgets import Input, Switch
 
-    from cloth_tui.tui.panels import SettingField, format_value, widget_id
+    from cloth_tui.tui.panels import ObjectsPanel, SettingField, format_value, widget_id
 
-    scene = Scene().with_values({"forces.wind": True, "scene.object": "sphere"})
+    scene = Scene().with_values({"forces.wind": True}).with_objects([SPHERE])
     app = ClothApp(scene, Path(tempfile.mkdtemp()) / "caps", renderer_factory=_no_renderer,
                    start_paused=True)
     out: dict[str, tuple[list[float], list[float]]] = {}
@@ -62,6 +66,16 @@ async def _measure(edits: int) -> dict[str, tuple[list[float], list[float]]]:
                 wall.append(time.perf_counter() - t0)
                 if k % 20 == 19:
                     await pilot.pause(0)  # let the simulation thread drain its commands
+        wall, cpu = out.setdefault("objects[0].friction", ([], []))
+        for k in range(edits):  # the objects panel's edit: the whole list, one value new
+            table = {**SPHERE, "friction": 0.2 if k % 2 == 0 else 0.7}
+            message = ObjectsPanel.Changed([table])
+            t0, c0 = time.perf_counter(), time.thread_time()
+            app.on_objects_panel_changed(message)
+            cpu.append(time.thread_time() - c0)
+            wall.append(time.perf_counter() - t0)
+            if k % 20 == 19:
+                await pilot.pause(0)
     return out
 
 

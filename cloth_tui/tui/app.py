@@ -269,7 +269,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         return True
 
     def apply_scene(self, new: Scene, *, restart: bool = False, shown: bool = False) -> None:
-        """Run `new`. `shown`: the caller shows it (one key changed: set_value's)."""
+        """Run `new`. `shown`: the caller shows what changed (set_value's one key, a list
+        panel's list)."""
         self.scene = new
         if self.sim is not None:
             self.sim.submit(lambda sim, new=new: sim.set_scene(new))

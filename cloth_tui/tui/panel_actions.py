@@ -56,16 +56,20 @@ class PanelActions:
     def on_objects_panel_changed(self, message: ObjectsPanel.Changed) -> None:
         # check_start: an object over a pinned particle is refused here, not by the sim
         self._settle_list(message, lambda: self.scene.with_objects(message.objects),
-                          "Object refused")
+                          "Object refused",
+                          lambda new: self.query_one(ObjectsPanel).show_objects(new.objects))
 
     def on_pins_panel_changed(self, message: PinsPanel.Changed) -> None:
         # check_start: groups that disagree, or a held particle inside an object
         self._settle_list(message, lambda: self.scene.with_pins(message.pins),
-                          "Pin group refused")
+                          "Pin group refused",
+                          lambda new: self.query_one(PinsPanel).show_pins(new.pins))
 
-    def _settle_list(self, message, build, refused: str) -> None:
+    def _settle_list(self, message, build, refused: str, show: Callable[[Scene], None]
+                     ) -> None:
         """Apply a list panel's edit, or refuse it and show the field's last good value; on
-        Enter, move on and let the keys typed after it through."""
+        Enter, move on and let the keys typed after it through. `show` shows the new list
+        in its panel (nothing else changed)."""
         try:
             new = build()
             if held_inputs_differ(self.scene, new):
@@ -75,7 +79,8 @@ class PanelActions:
             if message.field is not None:
                 message.field.show(message.field.last_good)
         else:
-            self.apply_scene(new)
+            self.apply_scene(new, shown=True)
+            show(new)
             if message.submitted:
                 self.screen.focus_next()
         if message.submitted:

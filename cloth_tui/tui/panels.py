@@ -164,6 +164,8 @@ class SettingField(Horizontal):
 
     def _paint_swatch(self) -> None:
         """The colour itself beside its #rrggbb text (always a valid one: the last good)."""
+        if self.spec.metadata["kind"] != "color":
+            return  # no swatch: and a query walks the row's widgets at every show
         for swatch in self.query(".swatch"):
             swatch.styles.background = self._value
             swatch.tooltip = f"{self._value}"
@@ -306,7 +308,7 @@ class ObjectsPanel(Vertical):
             return
         for i, obj in enumerate(objects):
             self.query_one(f"#object-{i}", Collapsible).title = object_title(i, obj)
-        for field in self.query(SettingField):
+        for field in self.walk_children(SettingField):  # no selector matching, as query's
             _, index, name = field.dotted.split(".")
             field.show(getattr(objects[int(index)], name))
 

@@ -113,6 +113,6 @@ class PinsPanel(Vertical):
             return
         for i, group in enumerate(pins):
             self.query_one(f"#pins-{i}", Collapsible).title = pin_title(i, group)
-        for field in self.query(SettingField):
+        for field in self.walk_children(SettingField):  # no selector matching, as query's
             _, index, name = field.dotted.split(".")
             field.show(getattr(pins[int(index)], name))
