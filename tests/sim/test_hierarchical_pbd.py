@@ -87,3 +87,17 @@ def test_a_compressed_sheet_is_left_alone():
     before = st.x.copy()
     ProjectHierarchy(sim.model).apply(st, 1e-3)
     assert np.abs(st.x - before).max() < 1e-12
+
+
+def test_hpbd_meets_the_tolerance_in_fewer_substeps_as_the_sheet_grows():
+    """The default scene, adaptive: the work the tolerance costs. pbd's substeps grow with
+    the sheet (a pass carries a correction one particle); hpbd's stay at the scene's floor."""
+    runs = {}
+    for n in (24, 48):
+        for solver in ("pbd", "hpbd"):
+            sim = run(Simulation(scene(cloth__resolution=n, behavior__solver=solver)), 30)
+            assert sim.control.met
+            runs[n, solver] = sim.substeps_run
+    floor = 30 * scene().behavior.substeps
+    assert runs[24, "hpbd"] == runs[48, "hpbd"] == floor
+    assert runs[48, "pbd"] > 3 * runs[48, "hpbd"] and runs[48, "pbd"] > runs[24, "pbd"]
