@@ -143,3 +143,7 @@ def test_params_assign_the_scene_values():
     assert p == StepParams.of(s)
     assert p.wind_direction == pytest.approx((0.0, 0.6, 0.8))
     assert (p.friction, p.iterations) == (0.25, 7)
+
+
+def test_the_defaults_are_the_default_scenes():
+    assert StepParams() == StepParams.of(scene())
