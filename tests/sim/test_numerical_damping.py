@@ -87,3 +87,25 @@ def test_simulate_json_and_stats_report_error_stretch_and_numerical_damping_apar
         assert k in st.as_dict(), k
     assert st.error == pytest.approx(st.max_stretch)  # pbd: the error is the stretch
     assert st.energy_tolerance is None  # 0: unbounded
+
+
+def test_the_meter_measures_from_where_the_last_frame_ended_and_forgets_jumps():
+    from cloth_tui.sim.numerical_damping import AVERAGE_FRAMES, DampingMeter
+    meter = DampingMeter()
+    calls = []
+    start = meter.begin(True, lambda: calls.append(1) or 10.0)
+    assert start == 10.0 and calls == [1]
+    # lost 1 J of which 0.5 J asked for, of 5 J free, in 0.1 s: 1/s
+    assert meter.end(start, 9.0, 0.5, 5.0, 0.1) == pytest.approx(1.0)
+    assert meter.begin(True, lambda: 99.0) == 9.0  # the next frame starts where it ended
+    meter.report(halted=False)
+    assert meter.average == pytest.approx(1.0)
+    meter.end(9.0, 9.0, 0.0, 5.0, 0.1)  # a frame that lost nothing moves the mean a little
+    meter.report(halted=False)
+    assert meter.average == pytest.approx(1.0 - 1.0 / AVERAGE_FRAMES)
+    meter.forget()  # a push: the next frame's start is measured afresh
+    assert meter.begin(True, lambda: 3.0) == 3.0
+    assert meter.begin(False, lambda: 3.0) is None
+    meter.unmeasured()
+    meter.report(halted=False)
+    assert meter.frame is None and meter.average is None
