@@ -153,6 +153,11 @@ class ProjectHierarchy:
     def __init__(self, model, passes: int = COARSE_PASSES):
         self.model = model
         self.passes = passes
+        self._build()
+
+    def _build(self) -> None:
+        """The levels of the model as it is now, and the kernel's arrays of them."""
+        model, passes = self.model, self.passes
         self.levels: list[Level] = build_levels(model)
         lv = self.levels
 
@@ -182,7 +187,7 @@ class ProjectHierarchy:
 
     def refresh_masses(self) -> None:
         """The levels again from the model's masses (written in place: model.refitted)."""
-        self.__init__(self.model, self.passes)
+        self._build()
 
     @property
     def projections(self) -> int:

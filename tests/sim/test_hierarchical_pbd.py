@@ -101,3 +101,15 @@ def test_hpbd_meets_the_tolerance_in_fewer_substeps_as_the_sheet_grows():
     floor = 30 * scene().behavior.substeps
     assert runs[24, "hpbd"] == runs[48, "hpbd"] == floor
     assert runs[48, "pbd"] > 3 * runs[48, "hpbd"] and runs[48, "pbd"] > runs[24, "pbd"]
+
+
+def test_a_new_mass_reaches_the_coarse_levels_without_a_rebuild():
+    sim = Simulation(scene(cloth__resolution=17, behavior__solver="hpbd"))
+    (cascade,) = [e for e in sim.step.effects if isinstance(e, ProjectHierarchy)]
+    before = cascade._w.copy()
+    assert not sim.set_scene(sim.scene.with_value("cloth.mass", 2 * sim.scene.cloth.mass))
+    (same,) = [e for e in sim.step.effects if isinstance(e, ProjectHierarchy)]
+    assert same is cascade
+    np.testing.assert_allclose(cascade._w, before / 2)
+    run(sim, 3)
+    assert sim.stats().finite
