@@ -94,13 +94,14 @@ class Simulation:
         self._rebuild(scene, model=True)
 
     # -- building -------------------------------------------------------------------------
-    def _rebuild(self, scene: Scene, model: bool) -> None:
+    def _rebuild(self, scene: Scene, model: bool, held_checked: bool = False) -> None:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
-        Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
+        Otherwise the sheet goes on, but the recoveries and a halt were the old settings'.
+        `held_checked`: the caller has run held_contacts.check_start on `scene`."""
         b = scene.behavior
         new_model = build_model(scene.cloth, b, scene.pins, _material(scene)) if model \
             else self.model
-        if model or held_inputs_differ(self.scene, scene):
+        if not held_checked and (model or held_inputs_differ(self.scene, scene)):
             check_held_particles(scene, new_model)  # before any change: a refusal keeps all
         self.scene = scene
         if model:
@@ -150,9 +151,12 @@ class Simulation:
             self._nearest_pin = near if sample is None else np.searchsorted(m.pinned, sample[near])
             self._pin_distance = dist
 
-    def set_scene(self, scene: Scene) -> bool:
+    def set_scene(self, scene: Scene, held_checked: bool = False) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
-        rebuilt (and so restarted)."""
+        rebuilt (and so restarted). `held_checked`: the caller has checked `scene` for held
+        particles in objects (held_contacts.check_start, as the app does before it asks),
+        so it is not checked again here; otherwise a refusal raises SceneError, changing
+        nothing."""
         if same_structure(scene, self.scene):
             self._retune(scene)
             return False
@@ -163,7 +167,7 @@ class Simulation:
             or scene.material != self.scene.material \
             or uses_tethers(scene.behavior, _material(scene)) \
             != uses_tethers(self.scene.behavior, _material(self.scene))
-        self._rebuild(scene, model=rebuild_model)
+        self._rebuild(scene, model=rebuild_model, held_checked=held_checked)
         return rebuild_model
 
     def _retune(self, scene: Scene) -> None:

@@ -130,3 +130,36 @@ def test_an_objects_friction_edit_keeps_the_step_and_builds_no_model_on_the_ui_t
             assert app.sim.sim.step is step
             assert [c.friction for c in step.colliders] == [0.9, 0.2]  # the floor's, its own
     run(go())
+
+
+def test_an_edit_that_may_move_a_held_particle_is_checked_once_on_the_ui_thread(
+        tmp_path, monkeypatch):
+    """Moving an object is checked for held particles in its skin where it is asked for,
+    and the simulation thread, which is handed the checked scene, does not check again."""
+    from cloth_tui.sim import runner
+    from cloth_tui.tui import panel_actions
+
+    checks: list[str] = []
+    ui_thread = threading.get_ident()
+
+    def counted(check):
+        def run_check(*args):
+            checks.append("ui" if threading.get_ident() == ui_thread else "sim")
+            return check(*args)
+        return run_check
+
+    sphere = {"type": "sphere", "center": [0.0, -0.1, 0.0], "radius": 0.3}
+    scene = Scene().with_value("cloth.resolution", 12).with_objects([sphere])
+
+    async def go():
+        app = make_app(tmp_path, scene)
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.sim is not None, what="the simulation")
+            monkeypatch.setattr(panel_actions, "check_start", counted(panel_actions.check_start))
+            monkeypatch.setattr(runner, "check_held_particles",
+                                counted(runner.check_held_particles))
+            app.post_message(ObjectsPanel.Changed([{**sphere, "center": [0.1, -0.1, 0.0]}]))
+            await until(pilot, lambda: sim_scene(app).objects[0].center[0] == 0.1,
+                        what="the object moved")
+            assert checks == ["ui"]
+    run(go())
