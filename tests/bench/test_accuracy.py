@@ -93,15 +93,19 @@ def test_plot_needs_png(tmp_path):
 
 
 def test_the_physical_reference_is_the_elastica_per_solver():
-    """Only a solver that takes the material runs it (xpbd today; the others are listed with
-    the reason), and its error against the elastica falls with the resolution."""
+    """Only a solver that takes the material runs it (xpbd; the others are listed with the
+    reason), and its error against the elastica falls with the resolution."""
     from cloth_tui.bench import accuracy_physical as P
 
     links = (4, 8)
     p = P.physical_study(links, A.run_serially(P.physical_calls(links)))
-    assert {q["solver"] for q in p["points"]} == {"xpbd"}
-    assert set(p["not_run"]) == {"pbd", "springs"}
+    from cloth_tui.scene import SOLVERS
+
+    ran = {q["solver"] for q in p["points"]}
+    assert "xpbd" in ran and {"pbd", "springs"} <= set(p["not_run"])
+    assert ran | set(p["not_run"]) == set(SOLVERS) and not ran & set(p["not_run"])
     assert all("needs behavior.solver" in why for why in p["not_run"].values())
-    coarse, fine = (next(q for q in p["points"] if q["links"] == n) for n in links)
+    coarse, fine = (next(q for q in p["points"] if q["links"] == n and q["solver"] == "xpbd")
+                    for n in links)
     assert abs(fine["error"]) < abs(coarse["error"]) < 0.05
     assert fine["wall_s"] > 0 and p["expected"] == pytest.approx(0.6406, abs=1e-4)
