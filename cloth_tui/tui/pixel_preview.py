@@ -25,10 +25,12 @@ from textual import events
 from textual.message import Message
 from textual.strip import Strip
 
+from ..newest_slot import NewestSlot
 from .graphics.detect import Graphics
 from .graphics.encoder import Encoded, FrameEncoder, Job, codec_for
 from .graphics.layout import Layout, Rect, uncovered_rects
 from .preview import Preview
+from .textual_adapter import driver_of, widgets_painted_over
 
 MAX_PIXELS = 640 * 480 * 2  # kitty: render at most this many pixels; it scales to the cells
 SIXEL_MAX_SIDE = 1000        # xterm's default sixel limit, each side
@@ -110,7 +112,7 @@ class PixelPreview(Preview):
         covers: list[Rect] = []
         # Topmost first (Textual's compositor map; no public way to ask what is painted over
         # a widget): every visible widget before the preview is drawn over it.
-        for widget, (where, clip) in self.screen._compositor.visible_widgets.items():
+        for widget, where, clip in widgets_painted_over(self.screen):
             if widget is self:
                 break
             if not widget.visible:
@@ -216,7 +218,7 @@ class PixelPreview(Preview):
     def _write(self, data: str) -> None:
         # Textual's driver queues its writes on one thread; writing there keeps the picture
         # in order with the screen updates (a direct write could split one of them).
-        driver = self.app._driver
+        driver = driver_of(self.app)
         if data and driver is not None:
             driver.write(data)
 
