@@ -18,11 +18,9 @@ from collections import deque
 from pathlib import Path
 from typing import Any, Callable
 
-from rich.console import COLOR_SYSTEMS
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
 from textual.widgets import Footer, Input
-from textual.widgets._select import SelectOverlay
 
 from ..compile_notice import CompileWatch
 from ..newest_slot import NewestSlot
@@ -48,6 +46,7 @@ from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
 from .status import Readout, StatusBar, cells
+from .textual_adapter import is_select_overlay, set_color_system
 from .view_actions import ViewActions
 
 RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
@@ -83,8 +82,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         self.graphics = graphics or Graphics("blocks")  # colors: truecolor
         if graphics is not None and "TEXTUAL_COLOR_SYSTEM" not in os.environ:
             # The colour depth the terminal was found to have, not the one it announces
-            # (Rich reads TERM=xterm as 16 colours); Console keeps it in `_color_system`.
-            self.console._color_system = COLOR_SYSTEMS[RICH_COLOR_SYSTEM[graphics.colors]]
+            # (Rich reads TERM=xterm as 16 colours).
+            set_color_system(self.console, RICH_COLOR_SYSTEM[graphics.colors])
         install_acyclic_strip_divide()  # else every redrawn line is cyclic garbage
         self.scene = scene
         self.captures_dir = Path(captures_dir)
@@ -299,7 +298,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
         if isinstance(self.screen, HelpScreen):
             return action in ("help", "quit")  # nothing acts unseen behind the help
-        if action in TEXT_KEYS_ACTIONS and isinstance(self.focused, (Input, SelectOverlay)):
+        if action in TEXT_KEYS_ACTIONS and (isinstance(self.focused, Input) or is_select_overlay(self.focused)):
             return False  # let the field have the key
         if action in CONTROL_KEYS_ACTIONS and self.focused is not None:
             return False  # space toggles the focused switch, presses the focused button

@@ -9,11 +9,11 @@ import zlib
 
 import numpy as np
 import pytest
-from rich.color import ColorSystem
 
 from cloth_tui.tui.graphics.detect import Graphics
 from cloth_tui.tui.pixel_preview import MAX_PIXELS, PixelPreview, render_size
 from cloth_tui.tui.preview import Preview
+from cloth_tui.tui.textual_adapter import driver_of
 
 from .conftest import SIZE, make_app, until
 
@@ -39,7 +39,7 @@ def test_frames_are_written_at_the_preview_cell_with_the_cells_pixel_size(tmp_pa
     async def go():
         app = make_app(tmp_path, graphics=Graphics(mode, (9, 20), "truecolor"))
         async with app.run_test(size=SIZE) as pilot:
-            driver = app._driver
+            driver = driver_of(app)
             original = driver.write
             driver.write = lambda data: (written.append(data), original(data))
             preview = app.preview
@@ -81,7 +81,7 @@ def test_half_blocks_are_dithered_to_the_cube_when_the_terminal_has_256_colours(
     async def go():
         app = make_app(tmp_path, graphics=Graphics("blocks", (9, 20), "256"))
         async with app.run_test(size=SIZE) as pilot:
-            assert app.console._color_system == ColorSystem.EIGHT_BIT
+            assert app.console.color_system == "256"
             preview = app.preview
             assert not isinstance(preview, PixelPreview) and isinstance(preview, Preview)
             await until(pilot, lambda: preview.frames_shown > 0, what="a frame")
@@ -114,7 +114,7 @@ def test_a_screen_over_the_preview_takes_the_kitty_picture_away_and_back(tmp_pat
     async def go():
         app = make_app(tmp_path, graphics=Graphics("kitty", (9, 20), "truecolor"))
         async with app.run_test(size=SIZE) as pilot:
-            driver = app._driver
+            driver = driver_of(app)
             original = driver.write
             driver.write = lambda data: (written.append(data), original(data))
             preview = app.preview
@@ -165,7 +165,7 @@ def test_around_a_notice_the_picture_goes_on_beside_it(tmp_path, mode):
         # 100 columns: sixel's picture (900 × 540 pixels) fills the preview to its last row
         app = make_app(tmp_path, graphics=Graphics(mode, cell, "truecolor"))
         async with app.run_test(size=(100, 30), notifications=True) as pilot:
-            driver = app._driver
+            driver = driver_of(app)
             original = driver.write
 
             def write(data):  # what was written once the notice was on the screen
@@ -210,7 +210,7 @@ def test_the_drawer_opens_over_the_picture_at_once(tmp_path, mode):
         app = make_app(tmp_path, graphics=Graphics(mode, cell, "truecolor"))
         async with app.run_test(size=(100, 30)) as pilot:
             drawer = app.query_one("#controls")
-            driver = app._driver
+            driver = driver_of(app)
             original = driver.write
 
             def write(data):

@@ -108,8 +108,8 @@ def dither_rgb(image: np.ndarray, palette: np.ndarray) -> np.ndarray:
 def rich_standard() -> np.ndarray:
     """(16, 3): the colours Rich takes the 16 system colours to be. Dithering to exactly
     these makes Rich's nearest-colour downgrade keep each pixel's choice."""
-    from rich._palettes import STANDARD_PALETTE
-    return np.array([tuple(STANDARD_PALETTE[i]) for i in range(16)], dtype=np.uint8)
+    from ..textual_adapter import rich_standard_palette
+    return np.array(rich_standard_palette(), dtype=np.uint8)
 
 
 def palette_for(colors: str) -> np.ndarray | None:
