@@ -282,11 +282,8 @@ class ResolveContacts:
 
 
 class ContactFriction:
-    """Coulomb friction of every collider's contacts of this substep, after the constraints.
-    Friction moves a particle along one object's tangent, which can carry it into another
-    object (in a crevice between two) or into a concave mesh: a last projection puts it out
-    again (without it, 5 cm deep in a sphere wedged against a capsule). Those pushes only
-    undo friction's own move, so the next substep's friction does not count them."""
+    """Coulomb friction of every collider's contacts of this substep, after the constraints
+    (on the substep's whole motion, theirs included)."""
 
     name = "contact_friction"
 
@@ -296,6 +293,21 @@ class ContactFriction:
     def apply(self, state, h):
         for collider in self.colliders:
             collider.apply_friction(state, h)
+
+
+class ContactsAfterFriction:
+    """Friction moves a particle along one object's tangent, which can carry it into another
+    object (in a crevice between two) or into a concave mesh: a last projection puts it out
+    again (without it, 5 cm deep in a sphere wedged against a capsule). Those pushes only
+    undo friction's own move, so they are not kept as depth for the next substep's
+    friction."""
+
+    name = "contacts_after_friction"
+
+    def __init__(self, colliders: list[Collider]):
+        self.colliders = colliders
+
+    def apply(self, state, h):
         for collider in self.colliders:
             collider.apply(state, h)
             collider.depth.fill(0.0)

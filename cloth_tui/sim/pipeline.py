@@ -10,6 +10,7 @@ The order of a substep's stages lives here and only here (`assemble`):
     tear_constraints        (behavior.tear) overstretched constraints break, or with a
     / tear_by_strength      material's tear_strength overloaded ones (tearing.py)
     contact_friction        Coulomb friction on the contacts' whole substep motion
+    contacts_after_friction each collider once more: out of what friction slid it into
     apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
     solver.velocities()
 A scene without wind has no wind effect, so it runs no wind code. Effects, force effects,
@@ -114,6 +115,7 @@ def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider]
     if collider_effects:
         # on the substep's whole motion, constraints included (see colliders.py)
         effects.append(colliders.ContactFriction(collider_effects))
+        effects.append(colliders.ContactsAfterFriction(collider_effects))
     if len(model.pinned):
         effects.append(ApplyPins(model))
     effects += soft_pins

@@ -1,14 +1,9 @@
-"""The position-based solvers, PBD and XPBD: their integrate and velocity stages.
-
-One substep, as in the original (Ten Minute Physics reads the same way):
-    (force effects)             add to state.accel
-    integrate_verlet            x_prev ← x;  x ← x + (1−D)·v·h + a·h²
-    (contacts, tethers)         pipeline.assemble's shared stages
-    project_constraints         `iterations` coloured Gauss-Seidel passes (xpbd.py; PBD is
-                                XPBD with compliance 0)
-    (resolve contacts, pins)
-    update_velocities           v ← (x − x_prev)/h, clamped to max_speed
-All kernels are compiled with nogil so the simulation thread leaves the GIL to the UI.
+"""The position-based solvers, PBD and XPBD: the stages they supply to a substep, whose
+order pipeline.py holds: the forces and the prediction integrate_verlet (x_prev ← x;
+x ← x + (1−D)·v·h + a·h²), the constraint projection (`iterations` coloured Gauss-Seidel
+passes, xpbd.py; PBD is XPBD with compliance 0) and update_velocities (v ← (x − x_prev)/h,
+clamped to max_speed). All kernels are compiled with nogil so the simulation thread
+leaves the GIL to the UI.
 """
 
 from __future__ import annotations

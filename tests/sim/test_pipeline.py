@@ -19,11 +19,11 @@ def build(**keys):
 
 @pytest.mark.parametrize("solver,integrate,constraints,velocities", [
     ("pbd", ["gravity", "integrate_verlet"],
-     ["project_constraints", "resolve_contacts", "contact_friction"], "update_velocities"),
+     ["project_constraints", "resolve_contacts", "contact_friction", "contacts_after_friction"], "update_velocities"),
     ("xpbd", ["gravity", "integrate_verlet"],
-     ["project_xpbd_constraints", "resolve_contacts", "contact_friction"], "update_velocities"),
+     ["project_xpbd_constraints", "resolve_contacts", "contact_friction", "contacts_after_friction"], "update_velocities"),
     # springs: integrator "auto" is implicit Euler; no tethers (model.uses_tethers)
-    ("springs", ["integrate_implicit_euler"], ["contact_friction"], "correct_velocities"),
+    ("springs", ["integrate_implicit_euler"], ["contact_friction", "contacts_after_friction"], "correct_velocities"),
 ])
 def test_every_solver_runs_the_one_stage_order(solver, integrate, constraints, velocities):
     step, _, _ = build(behavior__solver=solver, behavior__tethers=True)
