@@ -31,7 +31,7 @@ def test_a_finer_strip_takes_shorter_substeps():
     assert clamped.substeps_for(0.1, denim, 60.0) == clamped.SUBSTEPS
 
 
-@pytest.mark.parametrize("links", [10, 20, pytest.param(40, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("links", [10, 20, 40])
 @pytest.mark.parametrize("preset", clamped.PEIRCE_PRESETS)
 def test_the_peirce_test_gives_back_the_materials_bending(preset, links):
     m = lab_material(preset)
