@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from ..sim.tearing import remove_constraints
 from .strips import strip_scene, timed_frames, warmed_simulation
 from .study import Case, Experiment, LabError, Measurement
 
@@ -160,8 +161,7 @@ def cut_loose(sim, outside: np.ndarray) -> None:
     (before the first frame, which starts from the state as it is)."""
     edges = sim.model.edges
     touching = outside[edges[:, 0]] | outside[edges[:, 1]]
-    sim.state.alive[touching] = 0
-    sim.state.torn += int(np.count_nonzero(touching))
+    remove_constraints(sim.state, touching)
 
 
 DRAPE = Experiment(

@@ -138,6 +138,14 @@ def _record_breaks(state: ClothState, count: int) -> int:
     return count
 
 
+def remove_constraints(state: ClothState, which: np.ndarray) -> int:
+    """Take the constraints `which` (a mask) selects out of the solve, as a tear does;
+    returns how many were still intact."""
+    newly = np.asarray(which, dtype=bool) & (state.alive != 0)
+    state.alive[newly] = 0
+    return _record_breaks(state, int(np.count_nonzero(newly)))
+
+
 def cut_between(model: ClothModel, state: ClothState, p0: int, p1: int) -> int:
     """Cut the sheet along the material path from particle p0 to particle p1; returns the
     constraints cut. The same particle twice cuts nothing."""

@@ -211,3 +211,29 @@ def test_a_particle_whose_every_constraint_is_torn_is_left_where_it_was():
     xpbd.ProjectConstraints(m, 3, 0.0, 1e-3, "pbd").apply(state, 1e-3)
     np.testing.assert_array_equal(state.x[mid], x0[mid])
     assert np.abs(state.x[mid + 1] - x0[mid + 1]).max() > 0.0
+
+
+def test_the_torn_count_grows_in_one_place_only():
+    """Every break, by load, by a cut or by taking constraints out (the lab's disc), goes
+    through tearing.py; no other module writes state.torn."""
+    import re
+    from pathlib import Path
+
+    import cloth_tui
+    root = Path(cloth_tui.__file__).parent
+    writes = re.compile(r"\bstate\.torn\s*(\+|-)?=(?!=)")
+    found = [str(p.relative_to(root)) for p in sorted(root.rglob("*.py"))
+             if writes.search(p.read_text(encoding="utf-8"))]
+    assert found == ["sim/tearing.py"]
+    assert writes.search("sim.state.torn += 3") and not writes.search("if state.torn == 0:")
+
+
+def test_removing_constraints_counts_only_those_still_intact():
+    from cloth_tui.sim.tearing import remove_constraints
+    sim = Simulation(Scene().with_value("cloth.resolution", 4))
+    mask = np.zeros(sim.model.num_constraints, dtype=bool)
+    mask[:5] = True
+    assert remove_constraints(sim.state, mask) == 5 and sim.state.torn == 5
+    mask[:8] = True
+    assert remove_constraints(sim.state, mask) == 3 and sim.state.torn == 8
+    assert (sim.state.alive[:8] == 0).all() and sim.state.alive[8:].all()
