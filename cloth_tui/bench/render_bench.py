@@ -12,7 +12,7 @@ import statistics
 import time
 
 SHEETS = (26, 128, 256)
-TERMINAL = (160, 48)         # the terminal issue 17 measures the app in (tmux)
+TERMINAL = (160, 48)         # the terminal the app is measured in (tmux; docs/app.md)
 PREVIEW_CELLS = (114, 45)    # the app's preview widget there (tests/bench checks it)
 PIXEL_CELL_PX = (10, 20)     # a typical cell, and the app's guess when the terminal tells none
 REFERENCE_SIZE = (640, 384)  # the size earlier bench runs (and the README) used

@@ -1,8 +1,8 @@
 """Held particles (pins, pin groups, and both edges of the wave) are never pushed by a
 contact: one that starts inside an object's skin, or a sheet held on both sides of a plane
 (which cannot be walked around), makes contacts that can never hold. The sheet then tears
-itself apart between the object and the pins (issue 19's fuzzer: a sphere of radius 1000 m
-around a pinned sheet, a plane above pinned corners). Such a scene is refused with the
+itself apart between the object and the pins (a sphere of radius 1000 m around a pinned
+sheet, a plane above pinned corners). Such a scene is refused with the
 reason, as scene.validate refuses held particles inside the floor; that one is checked there,
 since it needs no model. Pin groups with keys are checked along their tracks
 (pins.track_times); soft pins not at all, since a contact can push them. A static object is

@@ -2,7 +2,7 @@
 
 FASTMATH lets LLVM reorder and fuse arithmetic (the speed of `fastmath=True`) but leaves out
 its `nnan` and `ninf` flags: under those, `math.isfinite(nan)` compiles to True and NaN
-checks vanish (issue 12 item 3). With this set a kernel still sees NaN and infinity.
+checks vanish. With this set a kernel still sees NaN and infinity.
 
 error_model="numpy": a float division by zero gives ±inf or NaN as in NumPy instead of raising
 ZeroDivisionError (numba's default, the Python model). A diverging frame can drive a distance

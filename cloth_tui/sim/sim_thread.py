@@ -17,8 +17,8 @@ MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to 
 PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it
 STATS_INTERVAL = 0.2  # s of wall time between full statistics in the published snapshots
 # A catch-up run of frames longer than this publishes as it goes: a sheet too large for real
-# time is always catching up, and one snapshot per MAX_CATCH_UP frames showed 5 frames/s of a
-# 256² sheet simulated at 32.
+# time is always catching up, and publishing once per MAX_CATCH_UP frames would show only a
+# sixth of the frames it simulates.
 PUBLISH_INTERVAL = 1.0 / 60.0  # s
 
 

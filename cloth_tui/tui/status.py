@@ -250,8 +250,8 @@ class StatusBar(Vertical):
             yield self._spark
 
     def show(self, text: tuple[str, str], history) -> None:
-        # A layout pass of the whole screen held the UI thread ~14 ms (and with it the GIL the
-        # simulation thread needs between kernels) five times a second: only the cost text's
+        # A layout pass of the whole screen holds the UI thread (and with it the GIL the
+        # simulation thread needs between kernels) for milliseconds: only the cost text's
         # width can move the layout, so only a change of its width asks for one.
         self._text.update(text[0], layout=False)
         width = Content.from_markup(text[1]).cell_length
