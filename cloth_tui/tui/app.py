@@ -338,8 +338,12 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
 
     def action_toggle(self, dotted: str) -> None:
         if self.set_value(dotted, not self.scene.get(dotted)):
-            self.controls.show_value(dotted, self.scene)
+            self._show_value(dotted)
         self._log_key(dotted)
+
+    def _show_value(self, dotted: str) -> None:
+        """The panel field of `dotted` shows the scene's value."""
+        self.controls.show_value(dotted, self.scene)
 
     def action_unfocus(self) -> None:
         self.set_focus(None)

@@ -92,11 +92,14 @@ class ReplayApp(ClothApp, inherit_bindings=False):
         self._show_frame()
 
     # -- the live app's parts that have no counterpart here ------------------------------
-    def apply_scene(self, new: Scene, *, restart: bool = False) -> None:
+    def apply_scene(self, new: Scene, *, restart: bool = False, shown: bool = False) -> None:
         """Only appearance changes (w, a): drawn again, nothing simulated."""
         self.scene = new
         if self.renderer is not None:
             self.renderer.update_scene(new)
+
+    def _show_value(self, dotted: str) -> None:
+        pass  # a replay has no panels: its keys' changes show in the picture alone
 
     def on_preview_grab(self, message: Preview.Grab) -> None:
         pass  # a recording cannot be pushed
