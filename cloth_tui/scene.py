@@ -258,8 +258,9 @@ class Scene:
 
     def with_objects(self, objects: list[dict[str, Any]]) -> "Scene":
         """A validated copy whose [[objects]] are `objects` (tables as in a scene file); the
-        other sections, valid already, are copied rather than read again."""
-        new = self.copy()
+        other sections, valid already, are copied rather than read again (the old objects
+        are not copied at all: they are replaced)."""
+        new = dataclasses.replace(self, objects=[]).copy()
         new.objects = _objects_from_list(objects)
         validate(new)
         return new

@@ -301,16 +301,22 @@ class ObjectsPanel(Vertical):
 
     def show_objects(self, objects: list[SceneObject]) -> None:
         """Show the scene's objects: new rows when their number changed, else new values."""
-        count = len(self._objects)
+        before = self._objects
         self._objects = [dataclasses.replace(o) for o in objects]
-        if len(objects) != count:
+        if len(objects) != len(before):
             self.call_later(self._recompose_keeping_focus)
             return
+        # Only the values that changed (an edit changes one): showing every field of every
+        # row held the UI thread ~0.5 ms an edit. None changed: all, so that a field typed
+        # as "0.50" shows its canonical "0.5".
+        some_changed = before != objects
         for i, obj in enumerate(objects):
             self.query_one(f"#object-{i}", Collapsible).title = object_title(i, obj)
         for field in self.walk_children(SettingField):  # no selector matching, as query's
             _, index, name = field.dotted.split(".")
-            field.show(getattr(objects[int(index)], name))
+            value = getattr(objects[int(index)], name)
+            if not (some_changed and value == getattr(before[int(index)], name)):
+                field.show(value)
 
 
     async def _recompose_keeping_focus(self) -> None:
