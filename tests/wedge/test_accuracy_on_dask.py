@@ -12,7 +12,7 @@ from cloth_tui.bench import accuracy as A
 
 pytest.importorskip("distributed")
 
-TIMINGS = ("time", "cpu_time", "elapsed")
+TIMINGS = ("time", "cpu_time", "elapsed", "wall_s")
 
 
 def without_timings(v):
