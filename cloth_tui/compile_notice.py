@@ -12,6 +12,23 @@ from typing import TextIO
 HEADER = "cloth-tui: compiling kernels (first run only)…"
 
 
+def _listen(on_start, on_end):
+    """Registers a numba listener calling on_start/on_end around every compilation; returns
+    it for event.unregister."""
+    from numba.core import event
+
+    class Listener(event.Listener):
+        def on_start(self, _):
+            on_start()
+
+        def on_end(self, _):
+            on_end()
+
+    listener = Listener()
+    event.register("numba:compile", listener)
+    return listener
+
+
 class CompileNotice:
     """`with CompileNotice(stream, live):` around the work. `live` (a terminal): one line
     counting the kernels compiled so far and the seconds spent; otherwise a line when
@@ -26,19 +43,7 @@ class CompileNotice:
         self._listener = None
 
     def __enter__(self) -> "CompileNotice":
-        from numba.core import event
-
-        notice = self
-
-        class Listener(event.Listener):
-            def on_start(self, _):
-                notice._on_start()
-
-            def on_end(self, _):
-                notice._on_end()
-
-        self._listener = Listener()
-        event.register("numba:compile", self._listener)
+        self._listener = _listen(self._on_start, self._on_end)
         return self
 
     def __exit__(self, *exc) -> None:
@@ -94,19 +99,7 @@ class CompileWatch:
         self._listener = None
 
     def __enter__(self) -> "CompileWatch":
-        from numba.core import event
-
-        watch = self
-
-        class Listener(event.Listener):
-            def on_start(self, _):
-                watch._on_start()
-
-            def on_end(self, _):
-                watch._on_end()
-
-        self._listener = Listener()
-        event.register("numba:compile", self._listener)
+        self._listener = _listen(self._on_start, self._on_end)
         return self
 
     def __exit__(self, *exc) -> None:
