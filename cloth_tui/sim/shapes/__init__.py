@@ -8,7 +8,7 @@ how a bake reads it back. `shape_of` refuses a type that is not registered, so n
 can fall through to another shape's code.
 
 Adding a shape: a module here with its Shape subclass (a new `code`), its entry in SHAPES,
-and its branch in colliders.shape_distance.
+and its branch in colliders.for_shape.
 """
 
 from __future__ import annotations
