@@ -15,6 +15,11 @@ level above, run one-sided Gauss-Seidel passes over its constraints (more on coa
 which are cheap), and keep its displacement from its restriction; the sheet's particles get
 the finest level's displacement, interpolated. Contacts, friction, pins and tearing act on
 the fine sheet as with plain PBD (pipeline.assemble's stages around the projection).
+
+Each level is a rows × cols grid whose constraints take grid_sweeps' first 8 colours, so a
+level of 1,024 nodes or more runs its passes as that module's vector runs (`project_level`);
+`cascade_loop`, plain loops over each level's constraint list, is the reference a test holds
+them to.
 """
 
 from __future__ import annotations
@@ -23,11 +28,16 @@ import math
 
 import numpy as np
 
+from .grid_sweeps import NUM_COLORS, SweepPlan, SweepScratch, plan_sweeps
 from .hierarchy import Level, build_levels, torn_flags
 from .jit import kernel
 
 COARSE_PASSES = 2  # one-sided passes per substep on the finest coarse level
 MAX_LEVEL_PASSES = 64  # (a 3 × 3 level is solved long before)
+# Levels with fewer nodes run their passes as a loop over their constraint list, not as
+# grid_sweeps' runs: at 256², ms a substep for the level of 289 nodes, 0.07 as a loop and 0.11
+# as runs; of 1089, 0.17 and 0.10; of 16,641, 0.84 and 0.47
+SWEEP_MIN_NODES = 1024
 
 
 @kernel(inline="always")
@@ -105,9 +115,11 @@ def _prolong(delta, dst, sources, weights, free, cell_alive):
 
 
 @kernel(_nrt=False)
-def cascade(x, r, p, total, node_off, w, own, edge_off, edges, rest, alive, fine_off, sources,
-            weights, free, cell_alive, passes):
-    """The cascade of the module docstring over levels concatenated coarsest first: level
+def cascade_loop(x, r, p, total, node_off, w, own, edge_off, edges, rest, alive, fine_off,
+                 sources, weights, free, cell_alive, passes):
+    """The cascade of the module docstring as plain loops over each level's constraint list,
+    one thread: the reference ProjectHierarchy's sweeps are tested against. Levels are
+    concatenated coarsest first: level
     k's nodes are [node_off[k], node_off[k+1]) of `w`, `own`, `r` and `p`, its edges
     [edge_off[k], edge_off[k+1]) (local node pairs), and its weights for the finer level's
     particles (the sheet's, below the last level) [fine_off[k], fine_off[k+1]).
@@ -142,6 +154,92 @@ def cascade(x, r, p, total, node_off, w, own, edge_off, edges, rest, alive, fine
     f0, f1 = fine_off[k], fine_off[k + 1]
     _prolong(p[node_off[k]:node_off[k + 1]], x, sources[f0:f1], weights[f0:f1], free[f0:f1],
              cell_alive[f0:f1])
+
+
+@kernel(_nrt=False)
+def restrict_levels(x, r, total, node_off, w, own, fine_off, sources, weights, cell_alive):
+    """Every level's restriction of the sheet's positions x into `r`, finest level first
+    (the arrays as cascade_loop's)."""
+    levels = node_off.shape[0] - 1
+    for k in range(levels - 1, -1, -1):
+        f0, f1 = fine_off[k], fine_off[k + 1]
+        n0, n1 = node_off[k], node_off[k + 1]
+        finer = x if k == levels - 1 else r[node_off[k + 1]:node_off[k + 2]]
+        _restrict(finer, r[n0:n1], sources[f0:f1], weights[f0:f1], total[n0:n1], w[n0:n1],
+                  own[n0:n1], cell_alive[f0:f1])
+
+
+# As grid_sweeps' runs: its own (not inlined) function of slices, so LLVM bounds them and
+# vectorises the loop; the one-sided test is a select, not a branch.
+@kernel()
+def _run_one_sided(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive):
+    """`_project_level`'s update for every pair of a run of a level's sweep layout."""
+    for t in range(xa.shape[0]):
+        wa = wa_run[t]
+        wb = wb_run[t]
+        dx = xb[t] - xa[t]
+        dy = yb[t] - ya[t]
+        dz = zb[t] - za[t]
+        d = math.sqrt(dx * dx + dy * dy + dz * dz)
+        # a closer pair, a coincident one (d 0) and a NaN all fail `d > rest` and stay
+        s = (rest[t] - d) / (d * (wa + wb)) if d > rest[t] and wa + wb > 0.0 else 0.0
+        s *= alive[t]
+        xa[t] -= wa * s * dx
+        ya[t] -= wa * s * dy
+        za[t] -= wa * s * dz
+        xb[t] += wb * s * dx
+        yb[t] += wb * s * dy
+        zb[t] += wb * s * dz
+
+
+@kernel(_nrt=False)
+def project_level(r, coarser, p, sources, weights, free, cell_alive, w, edges, rest, alive,
+                  P, W, grid_offset, chunks, color_chunks, edge_slot, slot_rest, alive_seen,
+                  slot_alive, passes, sweeps):
+    """One level of the cascade: start at its restriction `r` plus the interpolation of the
+    coarser level's displacement `coarser` (by `sources`, `weights`: none for the coarsest),
+    run `passes` one-sided passes, and leave the level's displacement from `r` in `p`.
+    With `sweeps`, the passes run in grid_sweeps' layout (the level's plan: P, W,
+    grid_offset, chunks, colours and slots; `alive`, the level's flags in its own order, is
+    taken into slot order where it changed); without, as cascade_loop's loop over `edges`
+    (a level too small for runs to pay: a 5 × 5 level's 64 passes are thousands of runs a
+    few pairs long)."""
+    for i in range(r.shape[0]):
+        p[i, 0], p[i, 1], p[i, 2] = r[i, 0], r[i, 1], r[i, 2]
+    if sources.shape[0]:
+        _prolong(coarser, p, sources, weights, free, cell_alive)
+    if sweeps:
+        for i in range(r.shape[0]):
+            g = grid_offset[i]
+            P[0, g], P[1, g], P[2, g] = p[i, 0], p[i, 1], p[i, 2]
+        for e in range(alive.shape[0]):
+            if alive[e] != alive_seen[e]:
+                alive_seen[e] = alive[e]
+                slot_alive[edge_slot[e]] = alive[e]
+        for _ in range(passes):
+            for c in range(NUM_COLORS):
+                for q in range(color_chunks[c], color_chunks[c + 1]):
+                    a0, b0, s0, n = chunks[q, 0], chunks[q, 1], chunks[q, 2], chunks[q, 3]
+                    _run_one_sided(P[0, a0:a0 + n], P[1, a0:a0 + n], P[2, a0:a0 + n],
+                                   P[0, b0:b0 + n], P[1, b0:b0 + n], P[2, b0:b0 + n],
+                                   W[a0:a0 + n], W[b0:b0 + n], slot_rest[s0:s0 + n],
+                                   slot_alive[s0:s0 + n])
+        for i in range(r.shape[0]):
+            g = grid_offset[i]
+            p[i, 0], p[i, 1], p[i, 2] = P[0, g], P[1, g], P[2, g]
+    else:
+        for _ in range(passes):
+            _project_level(p, w, edges, rest, alive, 0, edges.shape[0])
+    for i in range(r.shape[0]):
+        p[i, 0] -= r[i, 0]
+        p[i, 1] -= r[i, 1]
+        p[i, 2] -= r[i, 2]
+
+
+@kernel(_nrt=False)
+def prolong_to_sheet(delta, x, sources, weights, free, cell_alive):
+    """The sheet's particles get the finest level's displacement `delta`, interpolated."""
+    _prolong(delta, x, sources, weights, free, cell_alive)
 
 
 class ProjectHierarchy:
@@ -184,6 +282,11 @@ class ProjectHierarchy:
         self._p = np.zeros_like(self._r)
         self._total = np.zeros(len(self._r))
         self._passes = level_passes(len(lv), passes)
+        # each level's constraints as grid_sweeps' colour runs over its own rows × cols grid
+        self._plans: list[tuple[SweepPlan, SweepScratch]] = []
+        for v in lv:
+            plan = plan_sweeps(v.cols, v.rows, v.edges, v.color_offsets, v.rest, v.inv_mass)
+            self._plans.append((plan, plan.scratch()))
 
     def refresh_masses(self) -> None:
         """The levels again from the model's masses (written in place: model.refitted)."""
@@ -199,9 +302,26 @@ class ProjectHierarchy:
         if not self.levels:
             return
         self._follow_tears(state.alive, state.torn)
-        cascade(state.x, self._r, self._p, self._total, self._node_off, self._w, self._own,
-                self._edge_off, self._edges, self._rest, self._alive, self._fine_off,
-                self._sources, self._weights, self._free, self._cell_alive, self._passes)
+        no, eo, fo = self._node_off, self._edge_off, self._fine_off
+        restrict_levels(state.x, self._r, self._total, no, self._w, self._own, fo,
+                        self._sources, self._weights, self._cell_alive)
+        for k, (plan, scratch) in enumerate(self._plans):
+            # the weights that carry level k − 1's displacement down to level k (none for
+            # the coarsest) are level k − 1's
+            c0, c1 = (no[k - 1], no[k]) if k else (0, 0)
+            f0, f1 = (fo[k - 1], fo[k]) if k else (0, 0)
+            n0, n1, e0, e1 = no[k], no[k + 1], eo[k], eo[k + 1]
+            project_level(self._r[n0:n1], self._p[c0:c1], self._p[n0:n1],
+                          self._sources[f0:f1], self._weights[f0:f1], self._free[f0:f1],
+                          self._cell_alive[f0:f1], self._w[n0:n1], self._edges[e0:e1],
+                          self._rest[e0:e1], self._alive[e0:e1], plan.positions,
+                          plan.inv_mass, plan.grid_offset, plan.chunks, plan.color_chunks,
+                          plan.edge_slot, plan.rest, scratch.alive_seen, scratch.slot_alive,
+                          self._passes[k], n1 - n0 >= SWEEP_MIN_NODES)
+        k = len(self._plans) - 1
+        prolong_to_sheet(self._p[no[k]:no[k + 1]], state.x, self._sources[fo[k]:fo[k + 1]],
+                         self._weights[fo[k]:fo[k + 1]], self._free[fo[k]:fo[k + 1]],
+                         self._cell_alive[fo[k]:fo[k + 1]])
 
     def _follow_tears(self, alive: np.ndarray, torn: int) -> None:
         """Leave out the coarse constraints and interpolation cells a tear touches (made

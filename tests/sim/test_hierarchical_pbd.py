@@ -113,3 +113,28 @@ def test_a_new_mass_reaches_the_coarse_levels_without_a_rebuild():
     np.testing.assert_allclose(cascade._w, before / 2)
     run(sim, 3)
     assert sim.stats().finite
+
+
+@pytest.mark.parametrize("n,torn", [(17, False), (26, False), (33, True), (42, True)])
+def test_the_sweeps_give_the_plain_loops_positions(n, torn):
+    """The cascade as grid_sweeps' colour runs moves every particle as the plain loop over
+    each level's constraint list does (the same colours in the same order), a cut
+    included."""
+    from cloth_tui.sim.hierarchical_pbd import cascade_loop
+
+    sim = Simulation(scene(cloth__resolution=n, behavior__solver="hpbd",
+                           behavior__tear=torn))
+    if torn:
+        row = sim.model.nz // 2
+        assert sim.cut(row * sim.model.nx, row * sim.model.nx + n // 2) > 0
+    (ph,) = [e for e in sim.step.effects if isinstance(e, ProjectHierarchy)]
+    rng = np.random.default_rng(n)
+    st = sim.state.copy()
+    st.x[:] = st.x * np.array([1.15, 1.0, 1.1]) + rng.normal(0.0, 0.003, st.x.shape)
+    start, loop = st.x.copy(), st.x.copy()
+    ph.apply(st, 1e-3)  # (takes the cut into its flags, which the loop then reads)
+    cascade_loop(loop, ph._r, ph._p, ph._total, ph._node_off, ph._w, ph._own, ph._edge_off,
+                 ph._edges, ph._rest, ph._alive, ph._fine_off, ph._sources, ph._weights,
+                 ph._free, ph._cell_alive, ph._passes)
+    assert np.abs(st.x - start).max() > 1e-3  # the cascade moved the sheet
+    np.testing.assert_allclose(st.x, loop, rtol=0, atol=1e-12)
