@@ -3,8 +3,9 @@ dynamics"): nested grids over the sheet, their constraints, and how positions pa
 level and the next finer one. Plain NumPy, built once per model; hierarchical_pbd.py runs
 them.
 
-Level l (1, 2, ...) has a node at every row and column that is a multiple of 2^l, and at the
-last row and column (so every level spans the whole sheet). Between a level and the next
+Level l (1, 2, ...) has a node at every row and column that is a multiple of 2^l counted from
+either end of the sheet, up to its middle (`axis_nodes`), so every level spans the whole
+sheet and lies on it symmetrically. Between a level and the next
 finer one (the sheet itself, for level 1) positions pass both ways by the same bilinear
 weights in the grid's indices: down by interpolation, up by full weighting (each node the
 weighted mean of the finer particles around it). A mean, not the node's own particle:
@@ -57,8 +58,18 @@ class Level:
 
 
 def axis_nodes(count: int, step: int) -> np.ndarray:
-    """Multiples of `step` below `count`, and the last index."""
-    return np.unique(np.append(np.arange(0, count, step), count - 1)).astype(np.int64)
+    """Indices 0 … count − 1 at multiples of `step` counted from both ends, each end's up to
+    the middle: the nodes lie symmetrically, as the sheet does, with an odd interval (if any)
+    in the middle. Each level's nodes are among the finer level's.
+
+    Counted from the first index only, with the last one added, a short last interval made
+    one side differ from the other: one particle long at 26², the level's last node was its
+    particle alone and its constraint nearly a fine one, and the draped box's hanging edge
+    never came to rest (0.015 m/s after 10 s). Merging that interval into the one before
+    (3 long) tented a 16² sheet dropped on a post 3 cm over its cap, against pbd's 1.3."""
+    half = np.arange(0, count, step)
+    half = half[2 * half <= count - 1]
+    return np.unique(np.concatenate([half, count - 1 - half])).astype(np.int64)
 
 
 def _bracket(coarse: np.ndarray, fine: np.ndarray):

@@ -17,16 +17,23 @@ def model_of(**overrides):
 
 
 def test_axis_nodes_keep_both_ends():
-    assert axis_nodes(10, 4).tolist() == [0, 4, 8, 9]
+    assert axis_nodes(10, 4).tolist() == [0, 4, 5, 9]  # symmetric, the odd interval mid-way
     assert axis_nodes(9, 4).tolist() == [0, 4, 8]
+    assert axis_nodes(26, 2).tolist() == [0, 2, 4, 6, 8, 10, 12, 13, 15, 17, 19, 21, 23, 25]
+    for count in range(3, 70):
+        for step in (2, 4, 8):
+            nodes = axis_nodes(count, step)
+            assert nodes.tolist() == sorted(count - 1 - nodes)  # symmetric
+            assert set(nodes) <= set(axis_nodes(count, step // 2 or 1))  # nested
 
 
 @pytest.mark.parametrize("n", [9, 24, 33])
-def test_levels_nest_down_to_three_nodes_a_side(n):
+def test_levels_nest_down_to_three_or_four_nodes_a_side(n):
     m = model_of(cloth__resolution=n)
     levels = build_levels(m)
     sizes = [len(lv.nodes) for lv in levels]
-    assert sizes == sorted(sizes) and sizes[0] == 9  # coarsest first, 3 × 3
+    assert sizes == sorted(sizes)  # coarsest first: 3 × 3, or 4 × 4 where the middle is no node
+    assert levels[0].rows == levels[0].cols and levels[0].rows in (3, 4)
     finest = levels[-1]
     assert len(finest.sources) == m.num_particles
     for coarse, fine in zip(levels, levels[1:]):
