@@ -169,9 +169,9 @@ class Behavior:
                             hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
-    solver: str = key("pbd", "pbd (position projection), hpbd (pbd with coarse levels: the "
-                      "accuracy at less cost on large sheets), xpbd (compliant), springs "
-                      "(Hooke)",
+    solver: str = key("hpbd", "hpbd (pbd with coarse levels: the accuracy at a cost that "
+                      "grows with the sheet, not its cube), pbd (the original's Gauss-Seidel "
+                      "position projection), xpbd (compliant), springs (Hooke)",
                       choices=SOLVERS)
     integrator: str = key("auto", "time integrator; auto: verlet for pbd/xpbd, implicit_euler "
                           "(stable at any step) for springs", choices=INTEGRATORS)

@@ -33,8 +33,8 @@ def test_simulate_json_reports_the_tolerance_and_what_it_took():
     s = json.loads(out)
     assert s["error_tolerance"] == 0.03 and s["tolerance_met"] is True
     assert s["substeps_used"] > 1 and s["max_stretch"] <= 0.03
-    # the error bounded and the stretch the fabric shows are reported apart (pbd: equal)
-    assert s["solver"] == "pbd" and 0.0 <= s["error"] <= 0.03
+    # the error bounded and the stretch the fabric shows are reported apart (hpbd: equal)
+    assert s["solver"] == "hpbd" and 0.0 <= s["error"] <= 0.03
     assert "numerical_damping" in s and s["energy_tolerance"] is None
     rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
                        "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",

@@ -10,7 +10,7 @@ from cloth_tui.scene_reference import reference_markdown
 def test_defaults_keep_the_originals_proportions():
     s = Scene()
     assert s.cloth.size == 1.0 and s.cloth.resolution == 26 and s.cloth.pinned == "corners"
-    assert s.behavior.damping == 0.03 and s.behavior.solver == "pbd"
+    assert s.behavior.damping == 0.03 and s.behavior.solver == "hpbd"
     assert s.behavior.integrator == "auto"
     assert sc.integrator_for(s.behavior) == "verlet"
     assert sc.integrator_for(s.with_value("behavior.solver", "springs").behavior) \

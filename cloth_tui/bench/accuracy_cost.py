@@ -19,9 +19,9 @@ import time
 
 # (label, the scene keys it sets): the default scene's solver first
 SOLVERS: tuple[tuple[str, dict], ...] = (
-    ("pbd, gauss-seidel", {}),
+    ("hpbd, hierarchical", {}),
+    ("pbd, gauss-seidel", {"behavior.solver": "pbd"}),
     ("xpbd, gauss-seidel", {"behavior.solver": "xpbd"}),
-    ("hpbd, hierarchical", {"behavior.solver": "hpbd"}),
 )
 SIZES = (32, 64, 128, 256)
 QUICK_SIZES = (32, 64)

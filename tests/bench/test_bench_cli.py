@@ -23,7 +23,11 @@ def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
     assert "render" not in r
     cost = r["accuracy_cost"]
     assert cost["sizes"] == [6, 8]
-    assert [s["solver"] for s in cost["solvers"]][0] == "pbd, gauss-seidel"
+    assert [s["solver"] for s in cost["solvers"]] == ["hpbd, hierarchical",
+                                                      "pbd, gauss-seidel",
+                                                      "xpbd, gauss-seidel"]
+    assert [s["keys"] for s in cost["solvers"]][1:] == [{"behavior.solver": "pbd"},
+                                                        {"behavior.solver": "xpbd"}]
     for solver in cost["solvers"]:
         assert [row["n"] for row in solver["rows"]] == [6, 8]
         for row in solver["rows"]:

@@ -16,9 +16,11 @@ from cloth_tui.scene_files import load
 from cloth_tui.sim.runner import Simulation
 
 FRAMES = 90
-# The default scene as it ships (pbd, adaptive), and with xpbd at its scalar compliance
-# without the adaptive control: together they cover both solvers' scalar-α paths.
-RUNS = {"default": [], "default-xpbd": ["behavior.solver", "xpbd", "behavior.adaptive", False]}
+# The default scene with the original's solver (pbd, adaptive: the default until hpbd), and
+# with xpbd at its scalar compliance without the adaptive control: together they cover both
+# solvers' scalar-α paths.
+RUNS = {"default": ["behavior.solver", "pbd"],
+        "default-xpbd": ["behavior.solver", "xpbd", "behavior.adaptive", False]}
 
 
 def scene_of(name: str):

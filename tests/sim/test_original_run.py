@@ -24,4 +24,5 @@ def test_material_original_is_the_scene_without_one():
     from cloth_tui.scene_files import load
 
     scene = original_run.scene_of("default")
-    assert scene == load("default").with_value("material", "original")
+    assert scene == load("default").with_values({"material": "original",
+                                                 "behavior.solver": "pbd"})

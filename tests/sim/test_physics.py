@@ -105,10 +105,12 @@ def test_diverging_step_is_recovered():
 
 
 def test_tethers_bound_distance_to_nearest_pin_and_cut_stretch():
-    plain = Simulation(scene(cloth__resolution=48, behavior__substeps=1,
-                             behavior__adaptive=False, behavior__tethers=False))
-    tethered = Simulation(scene(cloth__resolution=48, behavior__substeps=1,
-                                behavior__adaptive=False, behavior__tethers=True))
+    # pbd, whose one pass a substep leaves a 48² sheet sagging far from its pins (hpbd's
+    # coarse levels take out most of that stretch themselves)
+    fixed = dict(cloth__resolution=48, behavior__substeps=1, behavior__adaptive=False,
+                 behavior__solver="pbd")
+    plain = Simulation(scene(**fixed, behavior__tethers=False))
+    tethered = Simulation(scene(**fixed, behavior__tethers=True))
     assert "enforce_tethers" in tethered.step.names and "enforce_tethers" not in plain.step.names
     for _ in range(200):
         plain.advance_frame()
