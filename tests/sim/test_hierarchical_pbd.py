@@ -107,10 +107,16 @@ def test_a_new_mass_reaches_the_coarse_levels_without_a_rebuild():
     sim = Simulation(scene(cloth__resolution=17, behavior__solver="hpbd"))
     (cascade,) = [e for e in sim.step.effects if isinstance(e, ProjectHierarchy)]
     before = cascade._w.copy()
+    plans = cascade._plans
+    swept = [plan.inv_mass[plan.grid_offset].copy() for plan, _ in plans]
+    assert not sim.set_scene(sim.scene.with_value("behavior.damping", 0.1))
+    assert cascade._plans is plans  # the masses did not change: nothing rebuilt
     assert not sim.set_scene(sim.scene.with_value("cloth.mass", 2 * sim.scene.cloth.mass))
     (same,) = [e for e in sim.step.effects if isinstance(e, ProjectHierarchy)]
     assert same is cascade
     np.testing.assert_allclose(cascade._w, before / 2)
+    for (plan, _), w in zip(plans, swept):  # the sweeps' copy too
+        np.testing.assert_allclose(plan.inv_mass[plan.grid_offset], w / 2)
     run(sim, 3)
     assert sim.stats().finite
 
