@@ -82,7 +82,13 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
             assert float(after) > float(before)  # lifted and set moving: more energy
 
             await browser.press("i")
-            (guid,) = await browser.wait_for(browser.downloads, 60, "the screenshot download")
+            try:
+                (guid,) = await browser.wait_for(browser.downloads, 60,
+                                                 "the screenshot download")
+            except AssertionError as e:  # what the app showed and wrote, for the next look
+                shots = sorted(p.name for p in captures.glob("*.png"))
+                raise AssertionError(f"{e}; captures: {shots}; the terminal's last text: "
+                                     f"{screen()[-1500:]!r}") from None
             name = browser.download_names()[guid]
             data = (downloads / guid).read_bytes()
             assert data.startswith(b"\x89PNG\r\n\x1a\n")
