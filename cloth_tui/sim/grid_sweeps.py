@@ -221,7 +221,7 @@ def coincident_direction(a, b):
 
 
 @kernel(inline="always")
-def _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz):
+def correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz):
     """Pair t's correction: its ends move apart along (dx, dy, dz) by s, weighted by their
     inverse masses wa, wb."""
     xa[t] -= wa * s * dx
@@ -257,7 +257,7 @@ def _run_rigid(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive):
         d = math.sqrt(1.0 if crushed else d2)
         s = (rest[t] - d) / (d * (wa + wb)) if wa + wb > 0.0 else 0.0
         s = 0.0 if crushed else s * alive[t]
-        _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
+        correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
         crushed_live += alive[t] if crushed else 0.0
     return crushed_live
 
@@ -282,7 +282,7 @@ def _run_compliant(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive, lam, alp
         lam_t = lam[t]
         s = (rest[t] - d - a_t * lam_t) / (d * (wa + wb + a_t)) if wa + wb > 0.0 else 0.0
         s = 0.0 if crushed else s * alive[t]
-        _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
+        correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
         lam[t] = lam_t + s * d
         crushed_live += alive[t] if crushed else 0.0
     return crushed_live
@@ -305,7 +305,7 @@ def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, a
         d = COINCIDENT
         lam_t = lam[t] if keeps_lambda else 0.0  # PBD's λ is neither reset nor kept
         s = (rest[t] - d - alpha_t * lam_t) / (d * (wa + wb + alpha_t))
-        _correct(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
+        correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz)
         if keeps_lambda:
             lam[t] = lam_t + s * d
 

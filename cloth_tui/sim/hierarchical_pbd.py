@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import NUM_COLORS, SweepPlan, SweepScratch, plan_sweeps
+from .grid_sweeps import NUM_COLORS, SweepPlan, SweepScratch, correct_pair, plan_sweeps
 from .hierarchy import Level, build_levels, torn_flags
 from .jit import kernel
 
@@ -183,13 +183,7 @@ def _run_one_sided(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive):
         d = math.sqrt(dx * dx + dy * dy + dz * dz)
         # a closer pair, a coincident one (d 0) and a NaN all fail `d > rest` and stay
         s = (rest[t] - d) / (d * (wa + wb)) if d > rest[t] and wa + wb > 0.0 else 0.0
-        s *= alive[t]
-        xa[t] -= wa * s * dx
-        ya[t] -= wa * s * dy
-        za[t] -= wa * s * dz
-        xb[t] += wb * s * dx
-        yb[t] += wb * s * dy
-        zb[t] += wb * s * dz
+        correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s * alive[t], dx, dy, dz)
 
 
 @kernel(_nrt=False)
