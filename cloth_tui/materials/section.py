@@ -27,7 +27,7 @@ from .schema import ALL_KEYS, Material, material_from_table
 
 ORIGINAL = "original"
 NAME = "material"
-SOLVER = "xpbd"  # the one solver whose constraints take a compliance per constraint
+SOLVERS = ("hpbd", "xpbd")  # the solvers whose constraints take a compliance per constraint
 
 
 @dataclass(frozen=True)
@@ -91,8 +91,8 @@ def section_to_table(section: MaterialSection) -> dict:
 
 def solver_problem(section: MaterialSection | None, solver: str) -> str | None:
     """Why the scene's solver cannot simulate its material, or None."""
-    if section is None or solver == SOLVER:
+    if section is None or solver in SOLVERS:
         return None
-    return (f"[{NAME}] ({section.name}) needs behavior.solver = \"{SOLVER}\", whose "
-            f"constraints take the material's compliance; {solver} has none of its own (or "
+    return (f"[{NAME}] ({section.name}) needs behavior.solver = \"hpbd\" or \"xpbd\", "
+            f"whose constraints take the material's compliance; {solver} has none (or "
             f"write {NAME} = \"{ORIGINAL}\" for the original's unitless keys)")

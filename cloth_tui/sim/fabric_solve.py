@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .fabric_hierarchy import DualHierarchy
 from .jit import kernel
 from .xpbd import ProjectConstraints
 
@@ -131,11 +132,13 @@ def warm_start_stencils(x, inv_mass, particles, coeffs, alive, lam):
 class ProjectFabric:
     """The constraint stage of xpbd with a material (module docstring). Keeps each family's
     multipliers of the last substep: `lambdas` (N·s², one per model.edges constraint, as
-    ProjectConstraints), `cell_lambdas` (C,) and `stencil_lambdas` (S, 3)."""
+    ProjectConstraints), `cell_lambdas` (C,) and `stencil_lambdas` (S, 3). With
+    `hierarchy` (hpbd), a coarse correction of the edges' λ follows each of the first half
+    of the passes (fabric_hierarchy.py; the rest smooth what its blocks leave)."""
 
     name = "project_fabric_constraints"
 
-    def __init__(self, model, iterations: int, h: float):
+    def __init__(self, model, iterations: int, h: float, hierarchy: bool = False):
         f = model.fabric
         self.model = model
         self.fabric = f
@@ -149,6 +152,9 @@ class ProjectFabric:
         self.stencil_alive = np.ones(f.num_stencils, np.uint8)
         self._scale = 1.0 / (4.0 * f.grid.dx * f.grid.dz)
         self._masks_torn = 0  # state.torn when the masks were last made
+        self.hierarchy = DualHierarchy(model) if hierarchy else None
+        if hierarchy:
+            self.name = "project_fabric_levels"
 
     def retune(self, fabric, h: float) -> None:
         """Run on with `fabric`'s numbers (fabric.refit_fabric: the same constraints) and the
@@ -189,6 +195,10 @@ class ProjectFabric:
                               self.cell_alpha_t, self._scale, fresh, 1)
             if has_edges:
                 self.edges.project(state, 1, fresh)
+                if self.hierarchy is not None and it < self.iterations // 2:
+                    lam, edge_slot = self.edges.slot_lambdas
+                    self.hierarchy.correct(state.x, m.inv_mass, m.rest_length, state.alive,
+                                           self.edges.alpha_t, lam, edge_slot)
 
     def _mask_torn(self, alive: np.ndarray, torn: int) -> None:
         """A cell or stencil across a torn edge leaves the solve with it: a torn flap is not

@@ -23,6 +23,7 @@ from .pins import with_user_pin
 from .run_stats import FrameStats, RunStats
 from .state import ClothState
 from .substep_control import SubstepController
+from .fabric_solve import ProjectFabric
 from .solvers import PositionBasedSolver
 from .tearing import cut_between, strength_tolerance, tear_strength
 
@@ -401,8 +402,9 @@ class Simulation:
         made once per step."""
         if self._alpha_tilde is None:
             solver = self.step.solver
-            xpbd = (self.scene.behavior.solver == "xpbd"
-                    and isinstance(solver, PositionBasedSolver))
+            xpbd = isinstance(solver, PositionBasedSolver) and (
+                self.scene.behavior.solver == "xpbd"
+                or isinstance(solver.projection, ProjectFabric))  # hpbd's with a material
             self._alpha_tilde = per_constraint(solver.projection.alpha_t if xpbd else 0.0,
                                                self.model.num_constraints)
         return self._alpha_tilde

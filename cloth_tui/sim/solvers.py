@@ -110,8 +110,9 @@ class PositionBasedSolver:
     """PBD (compliance 0: rigid constraints, stiffer with more iterations), hierarchical
     PBD (hpbd: PBD's constraints, with coarse levels projected before them) or XPBD
     (compliance α > 0: a material of stiffness 1/α). The force effects run as stages before
-    the verlet prediction, adding to state.accel. With a material (model.fabric, xpbd only)
-    the constraints are the fabric's, each with its own α (fabric_solve.ProjectFabric), and
+    the verlet prediction, adding to state.accel. With a material (model.fabric; xpbd, or
+    hpbd, which then corrects the edges' λ between the passes: fabric_hierarchy.py) the
+    constraints are the fabric's, each with its own α (fabric_solve.ProjectFabric), and
     the damping is its decay rate, exp(−damping·h) per substep. Damping and the speed limit
     are read from `params` each substep; the projection's numbers (iterations, α̃, which its
     sweeps keep per slot) are given to it again by `retune` when the params change."""
@@ -127,9 +128,12 @@ class PositionBasedSolver:
         self._integrate: list[Effect] = list(forces)
         self._integrate.append(IntegrateVerlet(model, params))
         if fabric is not None:
-            if not self._xpbd:
-                raise ValueError("a material's constraints are xpbd's (scene.validate says so)")
-            self.projection = ProjectFabric(model, params.iterations, h)
+            if b.solver in ("hpbd", "xpbd"):
+                self.projection = ProjectFabric(model, params.iterations, h,
+                                                hierarchy=b.solver == "hpbd")
+            else:
+                raise ValueError("a material's constraints are xpbd's or hpbd's "
+                                 "(scene.validate says so)")
             self._constraints: list[Effect] = [self.projection]
         else:
             self.projection = ProjectConstraints(

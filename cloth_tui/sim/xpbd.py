@@ -146,6 +146,13 @@ class ProjectConstraints:
     def apply(self, state, h):
         self.project(state, self.iterations, fresh=True)
 
+    @property
+    def slot_lambdas(self) -> tuple[np.ndarray, np.ndarray]:
+        """(λ in the sweeps' slot order, the slot of each constraint): the live multipliers
+        of a substep between `project` calls with fresh = False, for a correction of them
+        (fabric_hierarchy.py) that the next passes go on from."""
+        return self._scratch.lam, self._plan.edge_slot
+
     def project(self, state, iterations: int, fresh: bool) -> None:
         """`iterations` passes; `fresh` starts the substep's λ at 0, False goes on with them."""
         alpha_t = 0.0 if self._alpha_slots.shape[0] else self.alpha_t

@@ -39,11 +39,14 @@ def test_overrides_change_one_key_and_a_new_preset_keeps_the_keys_given_beside_i
     assert apply_overrides(s, ["material.preset=original"]).material is None
     fresh = apply_overrides(Scene(), ["behavior.solver=xpbd", "material.preset=knit"])
     assert fresh.material.material.preset == "knit"
+    # the default solver (hpbd) takes a material as it is
+    assert apply_overrides(Scene(), ["material.preset=knit"]).behavior.solver == "hpbd"
 
 
 @pytest.mark.parametrize("text, words", [
     ('[material]\npreset = "denimx"\n' + XPBD, "not a preset"),
-    ('[material]\npreset = "denim"\n', 'needs behavior.solver = "xpbd"'),
+    ('[material]\npreset = "denim"\n[behavior]\nsolver = "pbd"\n',
+     'needs behavior.solver = "hpbd" or "xpbd"'),
     ('material = "denim"', 'material = "original" or a [material] table'),
     ('material = 3', "must be a table"),
     ('[material]\nstretch = 3\n' + XPBD, "missing: areal_density, shear, bending"),
@@ -61,6 +64,6 @@ def test_a_refused_override_leaves_the_scene_as_it_was():
     s = loads('[material]\npreset = "denim"\n' + XPBD)
     with pytest.raises(SceneError, match="unknown key 'material.colour'"):
         apply_overrides(s, ["material.colour=1"])
-    with pytest.raises(SceneError, match='needs behavior.solver = "xpbd"'):
+    with pytest.raises(SceneError, match='needs behavior.solver = "hpbd" or "xpbd"'):
         s.with_value("behavior.solver", "pbd")
     assert s.material.material.preset == "denim" and s.behavior.solver == "xpbd"
