@@ -152,6 +152,9 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--resolutions", metavar="N,N,…",
                    help="the resolutions to run (what N is depends on the test; default: "
                         "three, coarse to fine)")
+    p.add_argument("--solver", metavar="NAME",
+                   help="for the tests of a material (cantilever, peirce, drape): xpbd (the "
+                        "default) or hpbd")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="OUT.png",
                    help="draw the error against resolution and against wall time")

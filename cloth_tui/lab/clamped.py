@@ -17,7 +17,7 @@ import numpy as np
 from .elastica import cantilever
 from .peirce import PEIRCE_ANGLE, overhang, peirce_rigidity
 from .strips import particles_across, strip_scene, timed_frames, warmed_simulation
-from .study import Case, Experiment, LabError, Measurement
+from .study import MATERIAL_SOLVERS, Case, Experiment, LabError, Measurement
 
 GRAVITY = 9.81
 HELD_COLUMNS = 3
@@ -156,10 +156,10 @@ def _cantilever_cases(material) -> list[Case]:
             for load in CANTILEVER_LOADS]
 
 
-def _measure_cantilever(case: Case, links: int, material) -> Measurement:
+def _measure_cantilever(case: Case, links: int, material, solver: str) -> Measurement:
     m = _cantilever_material(material)
     length = case.params["free_length"]
-    r = settle_clamped(length, links, m)
+    r = settle_clamped(length, links, m, solver)
     return Measurement(r["drop"] / length, {k: r[k] for k in ("wall_s", "max_stretch",
                                                               "substeps")})
 
@@ -171,8 +171,8 @@ CANTILEVER = Experiment(
     quantity="δ/L", unit="",
     resolution_meaning="free links along the strip (h = L/(N + ½))",
     default_resolutions=(10, 20, 40), min_resolution=4, tolerance=0.02,
-    cases=_cantilever_cases, measure=_measure_cantilever,
-    setup=f"xpbd with the material, {ITERATIONS} iterations, substeps keeping "
+    cases=_cantilever_cases, measure=_measure_cantilever, solvers=MATERIAL_SOLVERS,
+    setup=f"{{solver}} with the material, {ITERATIONS} iterations, substeps keeping "
           f"h²·B/(ρ_A·dx⁴) ≤ {MAX_BENDING_PER_STEP:g} (at least {SUBSTEPS}), settled at "
           f"half-critical damping until the tip moves < {SETTLED_DRIFT:g}·L per half period "
           f"(default material {DEFAULT_MATERIAL})")
@@ -208,12 +208,12 @@ def peirce_search(chord_at, first_guess: float) -> tuple[float, int]:
     return math.exp(b), runs
 
 
-def _measure_peirce(case: Case, links: int, material) -> Measurement:
+def _measure_peirce(case: Case, links: int, material, solver: str) -> Measurement:
     m = next(x for x in _peirce_materials(material) if x.preset == case.params["preset"])
     wall = [0.0]
 
     def chord_at(length: float) -> float:
-        r = settle_clamped(length, links, m)
+        r = settle_clamped(length, links, m, solver)
         wall[0] += r["wall_s"]
         return r["chord_angle"]
 
@@ -229,7 +229,7 @@ PEIRCE = Experiment(
     quantity="B", unit="N·m",
     resolution_meaning="free links along the overhang (h = O/(N + ½))",
     default_resolutions=(10, 20, 40), min_resolution=4, tolerance=0.02,
-    cases=_peirce_cases, measure=_measure_peirce,
-    setup=f"as cantilever; the overhang by the secant method to within "
+    cases=_peirce_cases, measure=_measure_peirce, solvers=MATERIAL_SOLVERS,
+    setup=f"{{solver}} as in cantilever; the overhang by the secant method to within "
           f"{math.degrees(PEIRCE_ANGLE_TOLERANCE):g}° of 41.5° (default presets "
           f"{', '.join(PEIRCE_PRESETS)})")

@@ -1,4 +1,5 @@
-"""`cloth-tui lab TEST [--material NAME] [--resolutions N,N,…] [--json] [--plot OUT.png]`:
+"""`cloth-tui lab TEST [--material NAME] [--solver NAME] [--resolutions N,N,…] [--json]
+[--plot OUT.png]`:
 run one of the lab's tests and print measured against expected at each resolution, the
 error, the fitted convergence order and the wall time; or one JSON object; and/or draw the
 error against resolution and against wall time."""
@@ -73,6 +74,7 @@ def run_lab(args) -> int:
         resolutions = (study.parse_resolutions(args.resolutions, experiment)
                        if args.resolutions else list(experiment.default_resolutions))
         material = study.lab_material(args.material)
+        solver = study.check_solver(experiment, args.solver)
     except LabError as e:
         raise UsageError(str(e)) from None
     plot = Path(args.plot) if args.plot else None
@@ -84,7 +86,7 @@ def run_lab(args) -> int:
     with CompileNotice(sys.stderr, live) as notice:
         try:
             result = study.run(experiment, resolutions, material,
-                               _ProgressLine(experiment.name, notice, live))
+                               _ProgressLine(experiment.name, notice, live), solver)
         except LabError as e:
             raise UsageError(str(e)) from None
     if plot is not None:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..sim.tearing import remove_constraints
 from .strips import strip_scene, timed_frames, warmed_simulation
-from .study import Case, Experiment, LabError, Measurement
+from .study import MATERIAL_SOLVERS, Case, Experiment, LabError, Measurement
 
 SPECIMEN_RADIUS = 0.15   # m
 SUPPORT_RADIUS = 0.09    # m
@@ -142,13 +142,13 @@ def _hem_xz(x: np.ndarray, held: np.ndarray, order: np.ndarray) -> np.ndarray:
     return x[order][:, [0, 2]] - x[held].mean(axis=0)[[0, 2]]
 
 
-def _measure(case: Case, n: int, material) -> Measurement:
+def _measure(case: Case, n: int, material, solver: str) -> Measurement:
     from .clamped import material_table
 
     m = next(x for x in _materials(material) if x.preset == case.params["preset"])
     scene = strip_scene(size=[2 * SPECIMEN_RADIUS] * 2, resolution=[n, n],
                         pins=specimen_pins(n),
-                        behavior={"solver": "xpbd", "iterations": ITERATIONS,
+                        behavior={"solver": solver, "iterations": ITERATIONS,
                                   "substeps": SUBSTEPS},
                         material_section=material_table(m, SETTLE_DAMPING))
     r = settle_disc(scene, n)
@@ -171,8 +171,8 @@ DRAPE = Experiment(
     quantity="drape coefficient", unit="",
     resolution_meaning="particles across the disc",
     default_resolutions=(25, 41), min_resolution=11, tolerance=None,
-    cases=_cases, measure=_measure,
-    setup=f"xpbd with the material, {ITERATIONS} iterations, {SUBSTEPS} substeps, "
+    cases=_cases, measure=_measure, solvers=MATERIAL_SOLVERS,
+    setup=f"{{solver}} with the material, {ITERATIONS} iterations, {SUBSTEPS} substeps, "
           f"damping {SETTLE_DAMPING:g}/s, settled until the coefficient moves < "
           f"{SETTLED_DC:g} per {CHECK_S:g} s (≥ {MIN_SETTLE_S:g} s); folds at least "
           f"{FOLD_DEPTH * 100:g} % of the radius deep")

@@ -39,7 +39,7 @@ def _catenary_cases(material) -> list[Case]:
                   "pin_slope_deg": math.degrees(c.pin_slope)})]
 
 
-def _measure_catenary(case: Case, segments: int, material) -> Measurement:
+def _measure_catenary(case: Case, segments: int, material, solver=None) -> Measurement:
     rows = particles_across(WIDTH, LENGTH, segments)
     pull = (LENGTH - SPAN) / 2
     scene = strip_scene(
@@ -108,7 +108,7 @@ def zero_crossing_period(t: np.ndarray, u: np.ndarray) -> tuple[float, int]:
     return 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1), len(crossings)
 
 
-def _measure_swing(case: Case, segments: int, material) -> Measurement:
+def _measure_swing(case: Case, segments: int, material, solver=None) -> Measurement:
     cols = particles_across(WIDTH, LENGTH, segments)
     scene = strip_scene(
         size=[WIDTH, LENGTH], resolution=[cols, segments + 1], material=material,

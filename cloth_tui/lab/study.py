@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 MAX_RESOLUTION = 256  # segments along a strip (particles across a disc): minutes beyond
+MATERIAL_SOLVERS = ("xpbd", "hpbd")  # what a test of a material may run it with (--solver)
 
 
 class LabError(ValueError):
@@ -42,8 +43,9 @@ class Experiment:
     min_resolution: int
     tolerance: float | None       # the relative error the lab's bound allows (None: a report)
     cases: Callable               # (material | None) -> list[Case]
-    measure: Callable             # (case, resolution, material | None) -> Measurement
-    setup: str = ""               # the solver settings, said in the report
+    measure: Callable             # (case, resolution, material | None, solver) -> Measurement
+    setup: str = ""               # the solver settings, said in the report ({solver} filled in)
+    solvers: tuple[str, ...] = ()  # the solvers it can run (the first its own); () if fixed
 
 
 def parse_resolutions(text: str, experiment: Experiment) -> list[int]:
@@ -78,9 +80,25 @@ def fitted_order(points: list[dict]) -> float | None:
     return sum((x - mx) * (y - my) for x, y in pts) / sxx
 
 
+def check_solver(experiment: Experiment, solver: str | None) -> str | None:
+    """The solver the test runs (its first by default); a LabError for one it cannot."""
+    if solver is None:
+        return experiment.solvers[0] if experiment.solvers else None
+    if not experiment.solvers:
+        raise LabError(f"--solver: {experiment.name} runs its own solver ({experiment.setup})"
+                       f"; --solver is for the tests of a material")
+    if solver not in experiment.solvers:
+        raise LabError(f"--solver: {solver!r} cannot run {experiment.name}; "
+                       f"choose {' or '.join(experiment.solvers)}")
+    return solver
+
+
 def run(experiment: Experiment, resolutions: list[int], material=None,
-        progress: Callable[[int, int, str], None] | None = None) -> dict:
-    """Every case at every resolution. `progress(done, total, what)` before each run."""
+        progress: Callable[[int, int, str], None] | None = None,
+        solver: str | None = None) -> dict:
+    """Every case at every resolution, with `solver` (check_solver). `progress(done, total,
+    what)` before each run."""
+    solver = check_solver(experiment, solver)
     started = time.perf_counter()
     cases = experiment.cases(material)
     total, done = len(cases) * len(resolutions), 0
@@ -91,7 +109,7 @@ def run(experiment: Experiment, resolutions: list[int], material=None,
             if progress:
                 progress(done, total, f"{case.label}, N = {n}")
             t0 = time.perf_counter()
-            m = experiment.measure(case, n, material)
+            m = experiment.measure(case, n, material, solver)
             wall = m.extra.pop("wall_s", time.perf_counter() - t0)
             error = (m.value / case.expected - 1) if case.expected else None
             points.append({"resolution": n, "measured": m.value, "error": error,
@@ -105,7 +123,8 @@ def run(experiment: Experiment, resolutions: list[int], material=None,
     return {"test": experiment.name, "summary": experiment.summary,
             "quantity": experiment.quantity, "unit": experiment.unit,
             "resolution_meaning": experiment.resolution_meaning,
-            "setup": experiment.setup, "tolerance": experiment.tolerance,
+            "setup": experiment.setup.replace("{solver}", solver or ""),
+            "solver": solver, "tolerance": experiment.tolerance,
             "material": material_summary(material), "cases": out_cases,
             "elapsed_s": time.perf_counter() - started}
 

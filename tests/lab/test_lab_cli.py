@@ -47,12 +47,15 @@ def test_a_run_prints_json_and_draws(tmp_path, capsys):
     (["lab", "cantilever", "--resolutions", "4"], 3),
     (["lab", "peirce", "--material", "denim", "--resolutions", "4"], 1),
     (["lab", "drape", "--material", "denim", "--resolutions", "11"], 1),
+    (["lab", "cantilever", "--solver", "hpbd", "--resolutions", "4"], 3),
 ])
 def test_the_bending_tests_run_from_the_command_line(argv, cases, tmp_path, capsys):
     out = tmp_path / "lab.png"
     assert main([*argv, "--json", "--plot", str(out)]) == 0
     r = json.loads(capsys.readouterr().out)
     assert len(r["cases"]) == cases and r["test"] == argv[1]
+    solver = argv[argv.index("--solver") + 1] if "--solver" in argv else "xpbd"
+    assert r["solver"] == solver and r["setup"].startswith(f"{solver} ")
     for case in r["cases"]:
         (point,) = case["points"]
         assert point["resolution"] == int(argv[-1]) and point["wall_s"] > 0
@@ -70,6 +73,9 @@ def test_the_bending_tests_run_from_the_command_line(argv, cases, tmp_path, caps
     (["lab", "swing", "--material", "felt"], "--material = 'felt' is not a preset"),
     (["lab", "catenary", "--plot", "out.jpg"], "the plot is a PNG"),
     (["lab"], "the following arguments are required: test"),
+    (["lab", "catenary", "--solver", "hpbd"], "--solver is for the tests of a material"),
+    (["lab", "cantilever", "--solver", "pbd"], "'pbd' cannot run cantilever; choose xpbd or "
+                                                "hpbd"),
 ])
 def test_bad_input_is_one_line(argv, says, capsys):
     assert main(argv) == 2
