@@ -30,7 +30,7 @@ def reference_markdown() -> str:
     rows += [_reference_row(f, ALLOWED[f.name]) for f in dataclasses.fields(PinGroup)]
     rows += ["\n### [material]\n",
              "The fabric in SI units (see Materials in SI units; it needs `behavior.solver = "
-             "\"xpbd\"`). `material = \"original\"`, or no section, keeps the original's "
+             "\"hpbd\"`, the default, or `\"xpbd\"`). `material = \"original\"`, or no section, keeps the original's "
              "unitless keys. Without `preset`, areal_density, stretch, shear and bending are "
              "all needed; with it, the keys given override the preset's.\n",
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|",
