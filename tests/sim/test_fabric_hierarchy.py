@@ -58,11 +58,13 @@ def test_the_coarse_matrix_is_the_galerkin_product_of_xpbds_system():
     lam = np.zeros(model.num_constraints)
     slot = np.arange(model.num_constraints)
     h.correct(x.copy(), model.inv_mass, model.rest_length, alive, alpha_t, lam, slot)
-    v = h.levels[0]
-    got = np.zeros((v.count, v.count))
-    rows = np.repeat(np.arange(v.count), np.diff(v.ptr))
-    got[rows, v.col] = v.values
+    got = h.level_matrix(0)
     assert np.allclose(got, dense_first_level(model, x, alpha_t, h.aggregates[0]), rtol=1e-10)
+    for k in range(1, len(h.levels)):  # each coarser level the product of the one below
+        P = np.zeros((h.levels[k - 1].count, h.levels[k].count))
+        P[np.arange(h.levels[k - 1].count), h.levels[k - 1].parent] = 1.0
+        assert np.allclose(h.level_matrix(k), P.T @ h.level_matrix(k - 1) @ P, rtol=1e-10)
+    assert len(h.levels) >= 2
 
 
 def test_a_converged_step_is_left_as_it_is():
