@@ -134,7 +134,8 @@ class ProjectFabric:
     multipliers of the last substep: `lambdas` (N·s², one per model.edges constraint, as
     ProjectConstraints), `cell_lambdas` (C,) and `stencil_lambdas` (S, 3). With
     `hierarchy` (hpbd), a coarse correction of the edges' λ follows each of the first half
-    of the passes (fabric_hierarchy.py; the rest smooth what its blocks leave)."""
+    of the passes (fabric_hierarchy.py; the rest smooth what its blocks leave; at one pass
+    there is none, and hpbd is xpbd)."""
 
     name = "project_fabric_constraints"
 
