@@ -28,9 +28,10 @@ it leaves as it is too. The shear cells and bending stencils are not coarsened (
 first half of a substep's passes; the rest smooth the steps the blocks leave at their
 borders (docs/physics.md, "hpbd with a material", has what that and the cost measured).
 
-A is assembled anew for each correction (its J is the edges' directions now): for every
-particle, every pair of its structural edges adds w_p (±n_i)·(±n_j) to the pair of
-aggregates they are in; the sparsity pattern, and where each term goes, is made once.
+A is assembled anew for a substep's first correction (its J is the edges' directions then;
+the later ones of the substep reuse it): each edge adds w_a + w_b + α̃ to its aggregate's
+diagonal, and each pair of edges sharing a particle w_p (±n_i)·(±n_j) to the two entries of
+their aggregates; the sparsity pattern, and where each term goes, is made once.
 """
 
 from __future__ import annotations
@@ -59,21 +60,24 @@ def edge_normals(x, edges, alive, out):
 
 
 @kernel(inline="always")
-def assemble_first_level(normals, inv_mass, alive, alpha_t, term_particle, term_i, term_j,
-                         term_sign, term_entry, diag_entry, values):
-    """values ← PᵀAP of the first level: each term w_p·s·(n_i·n_j) onto its entry, each live
-    edge's α̃ onto its aggregate's diagonal."""
+def assemble_first_level(normals, inv_mass, edges, alive, alpha_t, term_particle, term_i,
+                         term_j, term_sign, term_entry, term_entry_t, diag_entry, values):
+    """values ← PᵀAP of the first level: each live edge's A_ee = w_a + w_b + α̃ onto its
+    aggregate's diagonal, and each pair i < j of edges sharing a particle p its
+    A_ij = A_ji = w_p·s·(n_i·n_j) onto the entries (i's, j's aggregate) and (j's, i's)."""
     values[:] = 0.0
+    for e in range(alpha_t.shape[0]):
+        if alive[e]:
+            values[diag_entry[e]] += inv_mass[edges[e, 0]] + inv_mass[edges[e, 1]] + alpha_t[e]
     for k in range(term_particle.shape[0]):
         i, j = term_i[k], term_j[k]
         if not (alive[i] and alive[j]):
             continue
         dot = (normals[i, 0] * normals[j, 0] + normals[i, 1] * normals[j, 1]
                + normals[i, 2] * normals[j, 2])
-        values[term_entry[k]] += inv_mass[term_particle[k]] * term_sign[k] * dot
-    for e in range(alpha_t.shape[0]):
-        if alive[e]:
-            values[diag_entry[e]] += alpha_t[e]
+        v = inv_mass[term_particle[k]] * term_sign[k] * dot
+        values[term_entry[k]] += v
+        values[term_entry_t[k]] += v
 
 
 @kernel(inline="always")
@@ -148,23 +152,25 @@ def apply_correction(x, inv_mass, edges, alive, normals, aggregate, delta, lam, 
 @kernel()
 def coarse_correction(x, inv_mass, edges, rest, alive, alpha_t, lam, edge_slot, normals,
                       aggregate, term_particle, term_i, term_j, term_sign, term_entry,
-                      diag_entry, row_off, ptr_off, entry_off, ptr, col, val, diag, rhs, sol,
-                      parent, entry_map, pre, post, coarsest):
+                      term_entry_t, diag_entry, assemble, row_off, ptr_off, entry_off, ptr,
+                      col, val, diag, rhs, sol, parent, entry_map, pre, post, coarsest):
     """One correction, all in one call (the levels' arrays concatenated, level k's rows
     [row_off[k], row_off[k+1]), its CSR row pointers [ptr_off[k], ptr_off[k+1]) and entries
     [entry_off[k], entry_off[k+1]), indices local to the level; `parent` and `entry_map` give
-    a row's and an entry's place on the next level): assemble PᵀAP at the positions now,
-    restrict r, a V-cycle from 0 (`pre` and `post` sweeps a level, `coarsest` on the last),
-    then λ and x. One call, not ~25 (denim at 26², 10 substeps: 3.31 → 3.15 ms a frame)."""
+    a row's and an entry's place on the next level): with `assemble`, PᵀAP at the positions
+    now (else the last one's); restrict r, a V-cycle from 0 (`pre` and `post` sweeps a
+    level, `coarsest` on the last), then λ and x. One call, not ~25 (denim at 26², 10 substeps: 3.31 → 3.15 ms a frame)."""
     levels = row_off.shape[0] - 1
     edge_normals(x, edges, alive, normals)
-    e0, e1 = entry_off[0], entry_off[1]
-    assemble_first_level(normals, inv_mass, alive, alpha_t, term_particle, term_i, term_j,
-                         term_sign, term_entry, diag_entry, val[e0:e1])
-    for k in range(levels - 1):
-        coarsen_values(val[entry_off[k]:entry_off[k + 1]],
-                       entry_map[entry_off[k]:entry_off[k + 1]],
-                       val[entry_off[k + 1]:entry_off[k + 2]])
+    if assemble:
+        e0, e1 = entry_off[0], entry_off[1]
+        assemble_first_level(normals, inv_mass, edges, alive, alpha_t, term_particle, term_i,
+                             term_j, term_sign, term_entry, term_entry_t, diag_entry,
+                             val[e0:e1])
+        for k in range(levels - 1):
+            coarsen_values(val[entry_off[k]:entry_off[k + 1]],
+                           entry_map[entry_off[k]:entry_off[k + 1]],
+                           val[entry_off[k + 1]:entry_off[k + 2]])
     r0, r1 = row_off[0], row_off[1]
     edge_residual(x, edges, rest, alive, alpha_t, lam, edge_slot, aggregate, rhs[r0:r1])
     sol[:] = 0.0
@@ -264,14 +270,18 @@ class DualHierarchy:
             i_list.append(which[a].ravel())
             j_list.append(which[b].ravel())
             s_list.append((sign[a] * sign[b]).ravel())
-        self.term_particle = np.concatenate(p_list).astype(np.int64)
-        self.term_i = np.concatenate(i_list).astype(np.int64)
-        self.term_j = np.concatenate(j_list).astype(np.int64)
-        self.term_sign = np.concatenate(s_list)
+        term_i = np.concatenate(i_list).astype(np.int64)
+        term_j = np.concatenate(j_list).astype(np.int64)
         first = self.aggregates[0]
+        self.levels.append(_level_of(first[term_i], first[term_j], int(first.max()) + 1))
+        # each unordered pair once (A is symmetric; the diagonal is the edge's own)
+        once = term_i < term_j
+        self.term_particle = np.concatenate(p_list).astype(np.int64)[once]
+        self.term_i, self.term_j = term_i[once], term_j[once]
+        self.term_sign = np.concatenate(s_list)[once]
         ri, rj = first[self.term_i], first[self.term_j]
-        self.levels.append(_level_of(ri, rj, int(first.max()) + 1))
         self.term_entry = self.levels[0].entry(ri, rj)
+        self.term_entry_t = self.levels[0].entry(rj, ri)
         self.diag_entry = self.levels[0].entry(first, first)
         self.entry_maps = []
         for finer, coarser in zip(self.aggregates, self.aggregates[1:]):
@@ -302,13 +312,18 @@ class DualHierarchy:
         self.entry_map = cat(self.entry_maps + [np.zeros(len(lv[-1].col), np.int64)]
                              ).astype(np.int64)
 
-    def correct(self, x, inv_mass, rest, alive, alpha_t, lam, edge_slot) -> None:
-        """One coarse correction of λ (slot order, the sweeps' scratch) and x."""
+    def correct(self, x, inv_mass, rest, alive, alpha_t, lam, edge_slot,
+                assemble: bool = True) -> None:
+        """One coarse correction of λ (slot order, the sweeps' scratch) and x; without
+        `assemble`, with the matrices of the last one (the first of a substep assembles
+        them: the edges turn little between its passes, and they only shape the
+        correction, whose residual r is always the positions' now)."""
         if not self.levels:
             return
         coarse_correction(x, inv_mass, self.model.edges, rest, alive, alpha_t, lam, edge_slot,
                           self.normals, self.aggregates[0], self.term_particle, self.term_i,
-                          self.term_j, self.term_sign, self.term_entry, self.diag_entry,
+                          self.term_j, self.term_sign, self.term_entry, self.term_entry_t,
+                          self.diag_entry, assemble,
                           self.row_off, self.ptr_off, self.entry_off, self.ptr, self.col,
                           self.values, self.diag, self.rhs, self.sol, self.parent,
                           self.entry_map, PRE_SWEEPS, POST_SWEEPS, COARSEST_SWEEPS)

@@ -199,7 +199,8 @@ class ProjectFabric:
                 if self.hierarchy is not None and it < self.iterations // 2:
                     lam, edge_slot = self.edges.slot_lambdas
                     self.hierarchy.correct(state.x, m.inv_mass, m.rest_length, state.alive,
-                                           self.edges.alpha_t, lam, edge_slot)
+                                           self.edges.alpha_t, lam, edge_slot,
+                                           assemble=it == 0)
 
     def _mask_torn(self, alive: np.ndarray, torn: int) -> None:
         """A cell or stencil across a torn edge leaves the solve with it: a torn flap is not
