@@ -13,7 +13,7 @@ from textual.screen import ModalScreen, Screen
 from textual.widgets import Input, Static, Switch
 
 from .bindings import KEY_GROUPS, MOUSE_ACTIONS
-from .panels import SettingField
+from .setting_field import SettingField
 
 # What the field keys do in this app (their bindings' own words are Textual's generic ones).
 FIELD_ACTIONS = {

@@ -24,7 +24,7 @@ from textual import events
 from textual.timer import Timer
 from textual.widgets import Input
 
-from .panels import SettingField
+from .setting_field import SettingField
 
 # s: keys typed after Enter wait at most this long for the app to settle the value. It answers
 # within a few frames, but 1 s was seen to pass at start-up on a loaded machine (the keys then

@@ -13,7 +13,7 @@ from textual.message import Message
 from textual.widgets import Button, Collapsible, Label
 
 from ..pin_groups import PIN_KEYS, PinGroup, group_to_dict
-from .panels import SettingField
+from .setting_field import SettingField
 
 NEW_GROUP = {"at": [[0, 0]]}  # what Add puts in: the first corner, held where it is
 
