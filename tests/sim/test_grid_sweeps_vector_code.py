@@ -9,7 +9,7 @@ import platform
 import pytest
 
 from cloth_tui.bench.step_bench import bare_scene
-from cloth_tui.bench.vector_code import count_float_ops, cpu_vectors, projection_kernel_ops
+from cloth_tui.bench.vector_code import count_float_ops, projection_kernel_ops
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.state import ClothState
 from cloth_tui.sim.xpbd import ProjectConstraints
@@ -23,11 +23,13 @@ def test_count_float_ops_tells_packed_from_scalar():
     assert count_float_ops(asm) == {"packed_256": 1, "packed_128": 1, "scalar": 1}
 
 
-def test_the_sweep_kernel_compiles_to_vectors_as_wide_as_the_cpu_offers():
+def test_the_sweep_kernel_compiles_to_vector_code():
+    """Packed arithmetic at whatever width LLVM picks for this CPU (128, 256 or 512 bits
+    all count): a loop that stops vectorising compiles to scalar ops only."""
     scene = bare_scene(32)
     model = build_model(scene.cloth, scene.behavior)
     state = ClothState.from_model(model)
     ProjectConstraints(model, 2, 0.0, 1 / 240, "project_constraints").apply(state, 1 / 240)
     ops = projection_kernel_ops()
-    width = min(256, cpu_vectors()["isa_vector_bits"])  # LLVM keeps to 256 on most cores
-    assert ops.get(f"packed_{width}", 0) >= 20, ops
+    packed = sum(n for kind, n in ops.items() if kind.startswith("packed_"))
+    assert packed >= 20, ops
