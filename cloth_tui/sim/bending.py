@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .material import Grid
+from .material import MIN_STIFFNESS, Grid
 
 
 @dataclass(frozen=True)
@@ -115,7 +115,8 @@ def bending_compliance(stencils: Stencils, rigidity: float) -> np.ndarray:
     """(S,) per stencil: the XPBD compliance of its vector constraint C_s = D_s·x (1/m), whose
     energy |C_s|²/(2α_s) is the stencil's share of the bending energy: α_s = 1/(B·w_s).
     The constraint is linear in x, so its gradient is the constant coefficient row. A sheet
-    without bending rigidity has no bending constraints at all, rather than infinite α."""
+    without bending rigidity has no bending constraints at all, rather than infinite α; a
+    rigidity so small that B·w_s is below MIN_STIFFNESS counts as that (α stays finite)."""
     if not rigidity > 0:
         raise ValueError(f"bending constraints need a positive rigidity, got {rigidity}")
-    return 1.0 / (rigidity * stencils.weights)
+    return 1.0 / np.maximum(rigidity * stencils.weights, MIN_STIFFNESS)

@@ -28,6 +28,11 @@ from ..materials.errors import MaterialError
 from ..materials.schema import Material
 
 SHEAR_MODELS = ("cells", "springs")
+# The schema accepts any positive density and stiffness, down to 5e-324. Below these a
+# particle's 1/m, or a constraint's α = 1/k (and α/h² of the solve), would overflow to inf and
+# the solve to NaN; at them the sheet is already weightless or limp for every scene.
+MIN_MASS = 1e-30       # kg per particle
+MIN_STIFFNESS = 1e-30  # N/m per edge, N·m per shear cell: α ≤ 1e30
 
 
 @dataclass(frozen=True)
@@ -94,8 +99,10 @@ def _share(count: int, spacing: float) -> np.ndarray:
 
 
 def lumped_masses(grid: Grid, areal_density: float) -> np.ndarray:
-    """(N,) kg: density × each particle's dual cell; they sum to density × area."""
-    return areal_density * np.outer(grid.row_share(), grid.col_share()).ravel()
+    """(N,) kg: density × each particle's dual cell; they sum to density × area (each at
+    least MIN_MASS)."""
+    return np.maximum(areal_density * np.outer(grid.row_share(), grid.col_share()).ravel(),
+                      MIN_MASS)
 
 
 def grid_pairs(grid: Grid) -> dict[str, np.ndarray]:
@@ -204,8 +211,9 @@ def pair_stiffness(material: Material, grid: Grid, pairs: np.ndarray,
 
 def pair_compliance(material: Material, grid: Grid, pairs: np.ndarray,
                     shear: str = "cells") -> np.ndarray:
-    """(M,) m/N: XPBD's α = 1/k per pair (the kernel divides by h² itself)."""
-    return 1.0 / pair_stiffness(material, grid, pairs, shear)
+    """(M,) m/N: XPBD's α = 1/k per pair (the kernel divides by h² itself), k at least
+    MIN_STIFFNESS."""
+    return 1.0 / np.maximum(pair_stiffness(material, grid, pairs, shear), MIN_STIFFNESS)
 
 
 def cell_shear_strain(x: np.ndarray, grid: Grid) -> np.ndarray:
@@ -219,8 +227,9 @@ def cell_shear_strain(x: np.ndarray, grid: Grid) -> np.ndarray:
 
 
 def cell_shear_compliance(material: Material, grid: Grid) -> float:
-    """1/(N·m): α of each cell's constraint C = γ, whose energy C²/(2α) = ½·G·γ²·dx·dz."""
-    return 1.0 / (material.shear * grid.dx * grid.dz)
+    """1/(N·m): α of each cell's constraint C = γ, whose energy C²/(2α) = ½·G·γ²·dx·dz
+    (G·dx·dz at least MIN_STIFFNESS)."""
+    return 1.0 / max(material.shear * grid.dx * grid.dz, MIN_STIFFNESS)
 
 
 def membrane_energy(x: np.ndarray, material: Material, grid: Grid,

@@ -78,10 +78,10 @@ class SubstepController:
         d = self.mean_damping
         if self.energy_tolerance is None or d is None:
             return 0.0
-        return max(d, 0.0) * margin / self.energy_tolerance
+        return _ratio(max(d, 0.0) * margin, self.energy_tolerance)
 
     def _error_need(self, error: float, margin: float = 1.0) -> float:
-        return math.sqrt(max(error, 0.0) * margin / self.tolerance)
+        return math.sqrt(_ratio(max(error, 0.0) * margin, self.tolerance))
 
     def meets(self, error: float) -> bool:
         """Whether a frame of this error meets τ, and the recent mean damping τ_E."""
@@ -122,8 +122,17 @@ class SubstepController:
             self._set(self._raised(self._energy_need(ENERGY_SAFETY) / SAFETY))
         elif self.slack_frames >= (SLACK_FRAMES if self.energy_tolerance is None
                                    else ENERGY_SLACK_FRAMES):
-            want = math.ceil(self.substeps * max(self._error_need(self.window_error, SAFETY),
-                                                 self._energy_need(ENERGY_SAFETY)))
+            need = max(self._error_need(self.window_error, SAFETY),
+                       self._energy_need(ENERGY_SAFETY))
+            want = math.ceil(self.substeps * min(need, self.cap))  # (an unmeetable need: inf)
             self._set(max(self.floor, want, self.substeps // 2)
                       if want < self.substeps else self.substeps)
         return self.substeps
+
+
+def _ratio(amount: float, tolerance: float) -> float:
+    """amount/tolerance, where a tolerance that underflowed to 0 (a tear strength of 5e-324
+    N/m makes one) is met only by nothing: inf for any amount, 0 for none."""
+    if tolerance > 0.0:
+        return amount / tolerance  # (a float overflows to inf, never raises)
+    return math.inf if amount > 0.0 else 0.0

@@ -103,3 +103,16 @@ def test_without_an_energy_tolerance_damping_is_only_reported():
     for _ in range(3 * ENERGY_FRAMES):
         assert c.accept(0.001, damping=5.0) == 4
     assert c.met and c.mean_damping == 5.0
+
+
+def test_a_tolerance_that_underflowed_to_zero_raises_to_the_cap_and_never_raises_an_error():
+    # a tear strength of 5e-324 N/m gives a solve-error tolerance of 0: nothing but an exact
+    # solve meets it, so the count goes to the cap, the frame is accepted there, unmet
+    c = SubstepController(tolerance=0.0, floor=4, cap=64, energy_tolerance=0.0)
+    while (n := c.redo_with(1e-3)) is not None:
+        assert n <= 64
+    assert c.substeps == 64
+    for _ in range(ENERGY_SLACK_FRAMES + 1):
+        assert c.accept(1e-3, damping=1e-3) == 64
+    assert c.met is False
+    assert SubstepController(tolerance=0.0, floor=4, cap=64).meets(0.0)  # an exact solve does
