@@ -57,15 +57,35 @@ class RunStats(FrameStats):
     effects: tuple[str, ...] = ()  # the step's stages, in order
     material: str | None = None    # the name of the scene's [material]; None: the original keys
 
+    def __post_init__(self) -> None:
+        # `finite` vouches for every measured number, not only the positions: an energy or
+        # error gone NaN (a material at the edge of its range) makes the run not finite.
+        if self.measured and self.finite and not all(
+                v is None or math.isfinite(v) for v in
+                (getattr(self, name) for name in MEASURED_NUMBERS)):
+            object.__setattr__(self, "finite", False)
+
     def refreshed(self, frame: FrameStats) -> "RunStats":
         """These costly numbers with a later frame's cheap ones."""
         return dataclasses.replace(self, **_fields_of(frame, FrameStats))
 
     def as_dict(self) -> dict:
-        """Plain values by name, for JSON and the `simulate` listing."""
-        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        """Plain values by name, for JSON and the `simulate` listing: a number that is not
+        finite is None (JSON has no NaN or Infinity)."""
+        out = {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
         out["effects"] = list(self.effects)
         return out
+
+
+# The physical numbers `finite` vouches for (the timings are the clock's, never NaN)
+MEASURED_NUMBERS = ("min_y", "max_speed", "max_stretch", "mean_stretch", "error", "energy",
+                    "penetration", "numerical_damping", "frame_error")
+
+
+def _plain(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _fields_of(obj, cls) -> dict:

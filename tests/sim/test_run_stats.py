@@ -55,3 +55,20 @@ def test_the_dict_read_check_sees_one():
     assert DICT_READ.search('e = snap.stats.get("energy", 0.0)')
     assert DICT_READ.search("n = sim.stats()['torn']")
     assert not DICT_READ.search("n = sim.stats().torn")
+
+
+def test_a_measured_number_that_is_not_finite_makes_the_run_not_finite_and_json_null():
+    bad = RunStats(measured=True, min_y=0.0, max_speed=1.0, max_stretch=0.1,
+                   mean_stretch=0.05, energy=float("nan"), error=float("inf"))
+    assert bad.finite is False
+    d = json.loads(json.dumps(bad.as_dict(), allow_nan=False))
+    assert d["energy"] is None and d["error"] is None and d["finite"] is False
+    assert bad.refreshed(FrameStats(frames=2)).finite is False
+
+
+def test_finite_numbers_keep_finite_and_nothing_measured_is_not_a_failure():
+    good = RunStats(measured=True, min_y=0.0, max_speed=1.0, max_stretch=0.1,
+                    mean_stretch=0.05, energy=1.0, error=None)
+    assert good.finite and good.as_dict()["max_stretch"] == 0.1
+    assert RunStats().finite  # its NaNs read "not measured"
+    json.dumps(RunStats().as_dict(), allow_nan=False)
