@@ -1,4 +1,4 @@
-"""The README's scene key reference, generated from the key declarations in scene.py."""
+"""docs/scene-keys.md's key reference, generated from the key declarations in scene.py."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from .scene_files import toml_value
 
 
 def reference_markdown() -> str:
-    """The README's key reference, generated from the declarations in scene.py."""
+    """docs/scene-keys.md's key reference, generated from the declarations in scene.py."""
     rows = []
     for s in SECTIONS:
         rows += [f"\n### [{s}]\n", "| key | default | unit | allowed | meaning |",
@@ -24,12 +24,13 @@ def reference_markdown() -> str:
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
     rows += [_reference_row(f) for f in dataclasses.fields(SceneObject)]
     rows += ["\n### [[pins]]\n",
-             "Each `[[pins]]` table holds a group of particles (see Pin groups; with "
-             "`--set`, `pins=[{...}, ...]` sets the whole array).\n",
+             "Each `[[pins]]` table holds a group of particles (see [Pin groups](#pin-groups); "
+             "with `--set`, `pins=[{...}, ...]` sets the whole array).\n",
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|"]
     rows += [_reference_row(f, ALLOWED[f.name]) for f in dataclasses.fields(PinGroup)]
     rows += ["\n### [material]\n",
-             "The fabric in SI units (see Materials in SI units; it needs `behavior.solver = "
+             "The fabric in SI units (see [Materials in SI units]"
+             "(physics.md#materials-in-si-units--material); it needs `behavior.solver = "
              "\"hpbd\"`, the default, or `\"xpbd\"`). `material = \"original\"`, or no section, keeps the original's "
              "unitless keys. Without `preset`, areal_density, stretch, shear and bending are "
              "all needed; with it, the keys given override the preset's.\n",

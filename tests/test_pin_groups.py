@@ -106,12 +106,12 @@ def test_a_scene_file_with_bad_pins_exits_2_with_one_line(tmp_path, capsys):
     assert err.count("\n") == 0 and "pins[0].rows = [0, 99] is outside the sheet" in err
 
 
-def test_the_readmes_example_is_a_scene_that_runs():
+def test_the_docs_example_is_a_scene_that_runs():
     from pathlib import Path
 
     from cloth_tui.sim.runner import Simulation
-    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
-    section = readme.split("## Pin groups", 1)[1]
+    page = (Path(__file__).parent.parent / "docs" / "scene-keys.md").read_text(encoding="utf-8")
+    section = page.split("## Pin groups", 1)[1]
     example = section.split("```toml", 1)[1].split("```", 1)[0]
     s = sf.loads(example, "readme")
     assert len(s.pins) == 5 and s.cloth.pinned == "none"
