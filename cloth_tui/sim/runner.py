@@ -42,6 +42,8 @@ STRETCH_CONVERGED = 0.1
 # share of the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping,
 # contacts and a stable integrator only lose energy, an unstable one gains it exponentially.
 ENERGY_GAIN_DIVERGED = 0.05
+# deeper in a skin than this (share of it, m of rounding), a contact will push: _energy_scale
+OVERLAP_SHARE, OVERLAP_SLACK = 1e-3, 1e-9
 MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
 GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
 
@@ -282,12 +284,23 @@ class Simulation:
         return self.scene.behavior.solver == "springs" and not self._sources
 
     def _energy_scale(self) -> tuple[float, float]:
-        """(energy, scale) at the start of a frame, for the energy-gain check."""
+        """(energy, scale) at the start of a frame, for the energy-gain check; no bound
+        (inf) where a contact will push a particle out of a skin at depth/h, a gain that
+        more substeps raise: growth from a source, not from the step."""
         m, st, sc = self.model, self.state, self.scene
         internal = kinetic_energy(m, st) + elastic_energy(m, st, sc)
         g = sc.forces.gravity_strength if sc.forces.gravity else 0.0
         scale = float(m.mass.sum()) * g * m.extent + internal + 1e-12
+        if self._overlapping():
+            scale = math.inf
         return internal + gravitational_energy(m, st, sc), scale
+
+    def _overlapping(self) -> bool:
+        """A free particle deeper in a skin than contacts leave one (placed or bumped there)."""
+        free = self.model.inv_mass != 0.0
+        return any(c.signed_distance(self.state.x)[free].min(initial=math.inf)
+                   < c.thickness * (1.0 - OVERLAP_SHARE) - OVERLAP_SLACK
+                   for c in self.step.colliders)
 
     def _finite(self) -> bool:
         return all_finite(self.state.x, self.state.v)
