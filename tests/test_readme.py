@@ -66,8 +66,8 @@ def _runnable(argv: list[str]) -> tuple[list[str], str | None]:
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory) -> Path:
-    """One folder for the whole README, in order: a later command may read an earlier one's
-    output (`render sphere.usdc` reads the bake)."""
+    """One folder for the README's commands of this worker; a command that reads another's
+    output has it made first (`_make_inputs`)."""
     return tmp_path_factory.mktemp("readme")
 
 
@@ -89,11 +89,32 @@ def test_every_readme_command_runs_as_written(command, workdir):
     run, why = _runnable(argv)
     if not run:
         pytest.skip(f"{command!r}: {why}")
+    _make_inputs(argv, workdir)
     p = subprocess.run(CLI + run, cwd=workdir, capture_output=True, text=True, timeout=180,
                        stdin=subprocess.DEVNULL)
     assert p.returncode == 0, f"{command!r} (run as {run}, {why}) exited {p.returncode}: " \
                               f"{p.stderr[-2000:]}"
     assert "Traceback" not in p.stderr
+
+
+def _output(argv: list[str]) -> str | None:
+    for flag in ("-o", "--output"):
+        if flag in argv[:-1]:
+            return argv[argv.index(flag) + 1]
+    return None
+
+
+def _make_inputs(argv: list[str], workdir: Path) -> None:
+    """A command that reads what an earlier README command writes (`render sphere.usdc` the
+    bake) gets it made first when missing: with pytest-xdist the two may run on different
+    workers, each with its own folder."""
+    producers = {_output(shlex.split(c)[1:]): shlex.split(c)[1:] for c in readme_commands()}
+    for word in argv:
+        maker = producers.get(word)
+        if maker is not None and word != _output(argv) and not (workdir / word).exists():
+            p = subprocess.run(CLI + maker, cwd=workdir, capture_output=True, text=True,
+                               timeout=180, stdin=subprocess.DEVNULL)
+            assert p.returncode == 0, f"making {word} for {argv}: {p.stderr[-2000:]}"
 
 
 def _maybe_commands() -> set[str]:
