@@ -209,26 +209,43 @@ def _exit_on_interrupt(say_it: bool) -> None:
     signal.signal(signal.SIGINT, _exit)
 
 
+# The commands whose result is what they print: with stdout closed they are refused before
+# any work. (render and bake write files; serve and the app print nothing that matters.)
+PRINTING_COMMANDS = ("simulate", "scenes", "bench", "accuracy", "lab", "wedge")
+
+
 def _run(argv: list[str]) -> int:
     os.environ.setdefault(BLAS_THREADS_ENV, "1")
     from .cli_args import COMMANDS, build_parsers
     from .safe_text import escape_controls
+    from .std_output import CLOSED, CheckedOutput, OutputError, discard_unwritten
 
     app_parser, cmd_parser = build_parsers()
+    stdout = sys.stdout
+    sys.stdout = CheckedOutput(stdout)
     try:
         _check_thread_limit()
         if argv and argv[0] in COMMANDS:
-            args = cmd_parser.parse_args(argv)
-            handler = globals()[f"cmd_{args.command}"]
+            if stdout is None and argv[0] in PRINTING_COMMANDS:
+                raise OutputError(CLOSED)
+            args = _parse(cmd_parser, argv)
+            handler = globals()[f"cmd_{args.command}"] if args is not None else None
         else:
-            args = app_parser.parse_args(argv)
-            handler = cmd_app
-        return handler(args)
-    except BrokenPipeError:
+            args = _parse(app_parser, argv)
+            handler = cmd_app if args is not None else None
+        if handler in (cmd_app, cmd_serve):  # they print nothing that a failed write may stop
+            sys.stdout = stdout
+        status = handler(args) if handler is not None else 0
+        sys.stdout.flush()  # a result still buffered fails here, inside the guard
+        return status
+    except BrokenPipeError:  # the reader has what it wanted (`| head`)
+        discard_unwritten(stdout)
         return 0
     except Exception as e:
         if _interrupt_seen:
             raise KeyboardInterrupt from None
+        if isinstance(e, OutputError):
+            discard_unwritten(stdout)
         if _is_bad_input(e):
             message = f"cloth-tui: error: {e}".replace("cloth-tui: error: cloth-tui",
                                                        "cloth-tui")
@@ -243,6 +260,20 @@ def _run(argv: list[str]) -> int:
         print(escape_controls(f"cloth-tui: internal error: {type(e).__name__}: {e} "
                               f"(traceback in {log})"), file=sys.stderr)
         return 1
+    finally:
+        sys.stdout = stdout
+
+
+def _parse(parser, argv: list[str]):
+    """The parsed arguments, or None where --help or --version has printed all there was
+    to do (argparse ends those with SystemExit, which would skip the flush that checks the
+    output was written)."""
+    try:
+        return parser.parse_args(argv)
+    except SystemExit as e:
+        if e.code not in (0, None):
+            raise
+        return None
 
 
 def _is_bad_input(e: Exception) -> bool:
