@@ -89,11 +89,16 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
     import signal
 
     from aiohttp import web
-    from textual_serve.server import Server
+    from aiohttp.web_runner import GracefulExit
+    from textual_serve.server import Server, to_int
 
-    visits: set[asyncio.Task] = set()  # one per open page: its websocket's handler
+    from .serve_apps import VisitorApp
+
+    visits: dict[asyncio.Task, VisitorApp] = {}  # one per open page: its handler, its app
 
     class ClothServer(Server):
+        exiting = False
+
         def serve(self, debug: bool = False) -> None:
             """textual-serve's own `serve`, but the start lines are printed once the port is
             bound (a taken port fails before any of them), and a fresh event loop."""
@@ -107,6 +112,13 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             web.run_app(self._make_app(), host=self.host, port=self.port,
                         handle_signals=False, loop=loop, print=self._listening)
 
+        def request_exit(self) -> None:
+            """The first Ctrl+C or SIGTERM starts the shutdown; more, while the apps are
+            ending, change nothing (the shutdown is already under way)."""
+            if not self.exiting:
+                self.exiting = True
+                raise GracefulExit()
+
         def _listening(self, _aiohttp_banner: str) -> None:
             for line in start_lines(host, port, captures_dir):
                 print(line, flush=True)  # flushed: a pipe (a test, a log) sees it at once
@@ -115,22 +127,40 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             """Nothing: textual-serve prints its banner here, before the port is bound."""
 
         async def handle_websocket(self, request):
-            """One visitor's app, from the page's connection until it closes."""
+            """One visitor's app, from the page's connection until the app process has
+            exited (not just closed its output): the count of running apps is true, and a
+            page closed while its app starts up still ends that app."""
+            websocket = web.WebSocketResponse(heartbeat=15)
+            width = to_int(request.query.get("width", "80"), 80)
+            height = to_int(request.query.get("height", "24"), 24)
+            await websocket.prepare(request)
+            app = VisitorApp(self.command, websocket, self.download_manager, self.debug)
             task = asyncio.current_task()
-            visits.add(task)
+            visits[task] = app
             _log(f"{request.remote} opened the app ({len(visits)} running)")
             try:
-                return await super().handle_websocket(request)
+                await app.start(width, height)
+                await self._process_messages(websocket, app)
+            except asyncio.CancelledError:  # the server's shutdown
+                pass
+            except Exception as error:  # noqa: BLE001 - a broken page ends its own app only
+                _log(f"{request.remote}: {type(error).__name__}: {error}")
             finally:
-                visits.discard(task)
+                await asyncio.shield(app.stop())
+                await websocket.close()
+                del visits[task]
                 _log(f"{request.remote} left: its app stopped ({len(visits)} running)")
+            return websocket
 
         async def on_shutdown(self, app) -> None:
-            """Ctrl+C: end every visit now; each one's handler then tells its app to quit
-            and waits for it (aiohttp waits for the handlers). Left alone, the open pages
-            held the server's exit for ~20 s, or it exited with their apps still running."""
-            for task in list(visits):
-                task.cancel()
+            """Ctrl+C or SIGTERM: end every visit now and wait until each one's app has
+            exited, so that the server exits after its apps and none is left running."""
+            visitors = list(visits.values())
+            for task, visitor in list(visits.items()):
+                if not visitor.stopping:  # in its start or its messages: to its `finally`
+                    task.cancel()
+            if visitors:
+                await asyncio.wait([visitor.stop() for visitor in visitors])
 
         async def handle_index(self, request):
             """The page connects its websocket back to the address the browser used: with
@@ -139,6 +169,30 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             return await super().handle_index(request)
 
     return ClothServer(command, host=host, port=port, title="cloth-tui")
+
+
+def check_host(host: str) -> str:
+    """Refuse a --host no socket can listen on, in one line (a 300-character name made
+    the IDNA codec raise deep inside asyncio)."""
+    if not host.strip():
+        raise UsageError("--host is empty: give 0.0.0.0 to listen on every interface, "
+                         "or localhost for this machine only")
+    try:
+        ipaddress.ip_address(host.strip("[]"))
+        return host
+    except ValueError:
+        pass
+    try:
+        encoded = host.encode("idna")
+    except UnicodeError:
+        raise UsageError(f"--host {_short(host)}: not a host name or address") from None
+    if len(encoded) > 253:
+        raise UsageError(f"--host {_short(host)}: a host name has at most 253 characters")
+    return host
+
+
+def _short(text: str) -> str:
+    return repr(text if len(text) <= 40 else text[:37] + "...")
 
 
 def run_serve(args) -> int:
@@ -150,6 +204,7 @@ def run_serve(args) -> int:
         raise UsageError(f"--port {args.port}: must be 1…65535")
     scene = check_scene(args.scene, args.overrides)
     captures_dir = check_captures(Path(args.captures))
+    check_host(args.host)
     command = app_command(scene, args.overrides, captures_dir)
     server = make_server(command, args.host, args.port, captures_dir)
     try:
@@ -157,6 +212,8 @@ def run_serve(args) -> int:
     except OSError as e:  # the port is taken, the host unknown or not this machine's
         raise UsageError(f"cannot listen on {args.host}:{args.port}: "
                          f"{_reason(e)}") from None
+    except UnicodeError:  # a name check_host let through that the IDNA codec refuses
+        raise UsageError(f"--host {_short(args.host)}: not a host name or address") from None
     return 0
 
 

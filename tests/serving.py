@@ -21,9 +21,11 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-async def start_server(tmp_path: Path, *args: str, env: dict | None = None):
+async def start_server(tmp_path: Path, *args: str, env: dict | None = None,
+                       keep_output: bool = False):
     """`cloth-tui serve` in its own process group (as a shell starts a job); returns the
-    process and the lines it printed, up to "Press Ctrl+C"."""
+    process and the lines it printed, up to "Press Ctrl+C". The rest of its output is
+    read and dropped, unless `keep_output` (then the caller must read it)."""
     process = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "cloth_tui", "serve", *args,
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -35,7 +37,8 @@ async def start_server(tmp_path: Path, *args: str, env: dict | None = None):
             raise AssertionError(f"serve exited {await process.wait()}: {lines}")
         lines.append(line.decode())
     # the visits' log and the apps' stderr, read on: a full pipe would stall the server
-    _draining.add(asyncio.create_task(_drain(process.stdout)))
+    if not keep_output:
+        _draining.add(asyncio.create_task(_drain(process.stdout)))
     return process, lines
 
 
@@ -52,3 +55,42 @@ async def interrupt(process) -> int:
     except asyncio.TimeoutError:
         os.killpg(process.pid, signal.SIGKILL)
         raise AssertionError("serve did not stop within 30 s of Ctrl+C") from None
+
+
+def group_members(pgid: int) -> list[int]:
+    """The processes in process group `pgid` now (zombies too: they are not ended yet)."""
+    members = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # exited while listed
+            continue
+        if int(fields[2]) == pgid:
+            members.append(int(stat.parent.name))
+    return members
+
+
+async def visit(port: int, until: str | None, screen_text) -> tuple:
+    """A page's websocket to the server on `port`; with `until`, read until the screen
+    shows it. The page goes on reading, as a browser does (an unread websocket holds the
+    app's output). Returns the http session, the websocket and the reading task (the
+    caller closes all three)."""
+    import aiohttp
+    http = aiohttp.ClientSession()
+    ws = await http.ws_connect(f"ws://localhost:{port}/ws?width=160&height=48")
+    shown = asyncio.Event()
+
+    async def read():
+        screen = bytearray()
+        async for message in ws:
+            if (until is not None and message.type == aiohttp.WSMsgType.BINARY
+                    and not shown.is_set()):
+                screen.extend(message.data)
+                if until in screen_text(bytes(screen)):
+                    shown.set()
+    reading = asyncio.create_task(read())
+    if until is not None:
+        await asyncio.wait([reading, asyncio.create_task(shown.wait())], timeout=START_S,
+                           return_when=asyncio.FIRST_COMPLETED)
+        assert shown.is_set(), f"the app did not show {until!r}"
+    return http, ws, reading

@@ -1,0 +1,95 @@
+"""One visitor's app process under `cloth-tui serve` (textual-serve's AppService), ended
+for certain: asked to quit, then SIGTERM, then SIGKILL, each after a grace period, and
+waited for until the process has exited.
+
+textual-serve's own service waits only for the app to close its output, so the server
+could exit (or count "0 running") while an app was still tearing down, and an app whose
+visitor left while it was starting up could be left running for good."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import shlex
+import signal
+
+from textual_serve.app_service import AppService
+
+QUIT_S = 10.0  # a running app told to quit: its last frame, its threads, its recording
+TERM_S = 5.0  # after SIGTERM (the app's own handler ends it and has a watchdog)
+KILL_S = 5.0  # after SIGKILL: the kernel's part only
+OUTPUT_S = 5.0  # the app's output read to its end once the process is gone
+
+
+class VisitorApp(AppService):
+    def __init__(self, command: str, websocket, download_manager, debug: bool) -> None:
+        self._websocket = websocket
+        super().__init__(command, write_bytes=self._send_bytes, write_str=self._send_str,
+                         close=websocket.close, download_manager=download_manager,
+                         debug=debug)
+        self._stopping: asyncio.Task | None = None
+        self.started = False  # the app has drawn: it reads its input and can be told to quit
+
+    @property
+    def stopping(self) -> bool:
+        return self._stopping is not None
+
+    async def _open_app_process(self, width: int = 80, height: int = 24):
+        """The app itself as the child, not a shell around it: the signals below reach
+        it (sh -c would take them and leave the app running)."""
+        environment = self._build_environment(width=width, height=height)
+        self._process = process = await asyncio.create_subprocess_exec(
+            *shlex.split(self.command), stdin=asyncio.subprocess.PIPE,
+            stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE, env=environment)
+        self._stdin = process.stdin
+        return process
+
+    async def on_data(self, payload: bytes) -> None:
+        self.started = True
+        await self._send_bytes(payload)
+
+    async def _send_bytes(self, data: bytes) -> None:
+        """To the page, unless it has gone: the app's output is still read to its end (an
+        app blocked on a full pipe would never see the request to quit)."""
+        if not self._websocket.closed:
+            with contextlib.suppress(ConnectionError):
+                await self._websocket.send_bytes(data)
+
+    async def _send_str(self, data: str) -> None:
+        if not self._websocket.closed:
+            with contextlib.suppress(ConnectionError):
+                await self._websocket.send_str(data)
+
+    def stop(self) -> asyncio.Task:
+        """Ends the app (once, however often called); the task finishes when the process
+        has exited and its output is read."""
+        if self._stopping is None:
+            self._stopping = asyncio.get_running_loop().create_task(self._end())
+        return self._stopping
+
+    async def _end(self) -> None:
+        process = self._process
+        if process is None:
+            return
+        await self._download_manager.cancel_app_downloads(app_service_id=self.app_service_id)
+        if process.returncode is None and self.started:
+            await self.send_meta({"type": "quit"})
+            await _wait(process, QUIT_S)
+        # still starting up (it reads no input yet) or deaf to quit: SIGTERM, then SIGKILL
+        for sig, grace in ((signal.SIGTERM, TERM_S), (signal.SIGKILL, KILL_S)):
+            if process.returncode is not None:
+                break
+            with contextlib.suppress(ProcessLookupError):
+                process.send_signal(sig)
+            await _wait(process, grace)
+        if self._task is not None:
+            done, _ = await asyncio.wait([self._task], timeout=OUTPUT_S)
+            if not done:  # a child of the app holds its output open
+                self._task.cancel()
+                await asyncio.wait([self._task])
+            self._task = None
+
+
+async def _wait(process: asyncio.subprocess.Process, seconds: float) -> None:
+    with contextlib.suppress(asyncio.TimeoutError):
+        await asyncio.wait_for(process.wait(), seconds)
