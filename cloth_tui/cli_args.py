@@ -55,9 +55,16 @@ def _positive_int(text: str) -> int:
 
 
 def _size_list(text: str) -> list[int]:
+    """The bench's sheet sizes, refused before any work beyond what a scene's sheet can be
+    (cloth.resolution's range: the cost table runs the default scene at each size, and a
+    larger bare sheet would only run out of memory)."""
+    from .scene import MAX_RESOLUTION
+
     sizes = [_positive_int(t) for t in text.split(",")]
-    if any(n < 3 for n in sizes):
-        raise argparse.ArgumentTypeError(f"{text!r}: every size must be ≥ 3")
+    if any(not 3 <= n <= MAX_RESOLUTION for n in sizes):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: every size must be 3..{MAX_RESOLUTION} particles a side "
+            f"(cloth.resolution's range)")
     return sizes
 
 

@@ -2,6 +2,8 @@
 
 import json
 
+import pytest
+
 from cloth_tui.cli import main
 
 
@@ -76,3 +78,18 @@ def test_gravity_cost_times_both_steps_on_one_thread(monkeypatch):
     assert seen and all(seen) and not threads.single_thread_forced()
     assert cost["bare_effects"] == ["integrate_verlet", "project_constraints", "apply_pins",
                                     "update_velocities"]
+
+
+@pytest.mark.parametrize("option, sizes", [("--sizes", "100000"), ("--sizes", "600"),
+                                           ("--sizes", "64,2000"), ("--cost-sizes", "513")])
+def test_sizes_no_sheet_can_have_are_refused_before_any_work(capsys, monkeypatch, option,
+                                                             sizes):
+    import cloth_tui.bench.cli
+
+    def never(_args):
+        raise AssertionError("the bench started")
+
+    monkeypatch.setattr(cloth_tui.bench.cli, "run_bench", never)
+    assert main(["bench", option, sizes]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "3..512 particles a side" in err and option in err
