@@ -20,7 +20,7 @@ from typing import Any, Callable
 
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
-from textual.widgets import Footer, Input
+from textual.widgets import Footer, Input, OptionList
 
 from ..compile_notice import CompileWatch
 from ..newest_slot import NewestSlot
@@ -35,7 +35,8 @@ from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
-from .commands import SceneCommands, with_own_screenshot
+from .commands import FabricCommands, SceneCommands, with_own_screenshot
+from .fabric_actions import FabricActions
 from .graphics.detect import Graphics
 from .help import HelpScreen
 from .key_order import KeyOrder
@@ -64,11 +65,11 @@ def default_renderer_factory(**kwargs):
     return RenderService(**kwargs)
 
 
-class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
+class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricActions, App):
     CSS_PATH = "app.tcss"
     TITLE = "cloth-tui"
     AUTO_FOCUS = None  # keys go to the app until the user picks a field
-    COMMANDS = App.COMMANDS | {SceneCommands}
+    COMMANDS = App.COMMANDS | {SceneCommands, FabricCommands}
     BINDINGS = APP_BINDINGS
     # Narrower than WIDE_FROM, the controls are a drawer over the preview (`c`), which takes
     # the width: at 80 columns a side panel would leave a 34-column picture.
@@ -86,6 +87,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
             set_color_system(self.console, RICH_COLOR_SYSTEM[graphics.colors])
         install_acyclic_strip_divide()  # else every redrawn line is cyclic garbage
         self.scene = scene
+        self.own_fabric = scene.material  # Restore defaults' fabric (fabric_actions.py)
         self.captures_dir = Path(captures_dir)
         self.renderer_factory = renderer_factory or default_renderer_factory
         self.start_paused = start_paused
@@ -291,15 +293,17 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, App):
         except SceneError as e:
             self.notify(str(e), severity="error")
             return
+        new, fabric = self.with_fabric_kept(name, new)
         self.apply_scene(new, restart=True)
-        self.notify(f"Opened scene {name}")
+        self.notify(f"Opened scene {name}; {fabric}")
 
     # -- actions --------------------------------------------------------------------------
     def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
         if isinstance(self.screen, HelpScreen):
             return action in ("help", "quit")  # nothing acts unseen behind the help
-        if action in TEXT_KEYS_ACTIONS and (isinstance(self.focused, Input) or is_select_overlay(self.focused)):
-            return False  # let the field have the key
+        if action in TEXT_KEYS_ACTIONS and (isinstance(self.focused, (Input, OptionList))
+                                            or is_select_overlay(self.focused)):
+            return False  # let the field (or the fabric list: its arrows) have the key
         if action in CONTROL_KEYS_ACTIONS and self.focused is not None:
             return False  # space toggles the focused switch, presses the focused button
         return True

@@ -22,7 +22,17 @@ FIELD_ACTIONS = {
     "submit": "apply the value and move to the next field",
     "toggle_switch": "toggle a focused switch",
 }
-KEY_WIDTH_AT_MOST = 26  # the keys' column: as wide as its widest entry, up to this
+KEY_WIDTH_AT_MOST = 26
+FABRIC_ROWS = [
+    ("Controls: Fabric", "the fabric's presets (name, weight in g/m², what it is, its "
+                         "source) and \"original\", the unitless sheet: ↑ ↓ and Enter, or a "
+                         "click, picks one"),
+    ("its values", "weight g/m², stretch warp and weft N/m, shear N/m, bending µN·m, "
+                   "damping 1/s, tear strength N/m: edited as any field"),
+    ("with a fabric on", "mass, compliance, damping and the springs' keys say \"by the "
+                         "fabric\": it replaces them; opening another scene keeps it unless "
+                         "that scene names its own; Restore defaults gives the scene's own"),
+]  # the keys' column: as wide as its widest entry, up to this
 
 
 def field_bindings() -> list[Binding]:
@@ -47,7 +57,9 @@ def help_groups(app: App) -> dict[str, list[tuple[str, str]]]:
                                                              b.description))
                         for b in field_bindings()]
     palette = Binding(app.COMMAND_PALETTE_BINDING, "command_palette")
-    groups["Fields"].append((key_text(app, palette), "command palette: open a built-in scene"))
+    groups["Fields"].append((key_text(app, palette), "command palette: open a built-in scene, "
+                             "or pick a fabric (type its name: \"denim\")"))
+    groups["Fabric"] = FABRIC_ROWS
     groups["Mouse"] = list(MOUSE_ACTIONS)
     return groups
 

@@ -30,6 +30,7 @@ class PanelActions:
     set_value: Callable[[str, Any], bool]
     apply_scene: Callable[..., None]
     action_restart: Callable[[], None]
+    restore_defaults: Callable[[], None]
     notify: Callable[..., None]
     recent_view_keys: Callable[[], list[str]]
     release_keys: Callable[[], None]
@@ -90,8 +91,7 @@ class PanelActions:
         if message.command == "restart":
             self.action_restart()
         elif message.command == "defaults":
-            self.apply_scene(Scene(name=self.scene.name), restart=True)
-            self.notify("Settings restored to their defaults")
+            self.restore_defaults()  # fabric_actions.py: with the scene's own fabric
         elif message.command == "hide":
             self.action_toggle_controls()
 

@@ -11,7 +11,11 @@ from textual.containers import Horizontal, VerticalScroll
 from textual.message import Message
 from textual.widgets import Button, Collapsible
 
+from ..materials.catalogue import REPLACEABLE, replaced_keys
+from ..materials.section import is_material_key
 from ..scene import SECTION_TYPES, Scene
+from .fabric_panel import FabricPanel
+from .fabric_values import PREFIX
 from .objects_panel import ObjectsPanel
 from .pins_panel import PinsPanel
 from .setting_field import (SettingField, format_value, label_text,  # noqa: F401 (re-exported)
@@ -39,7 +43,8 @@ def keys_in(group: str) -> list[str]:
 
 
 class Controls(VerticalScroll):
-    """Top-level settings and buttons, then the four collapsible groups."""
+    """Top-level settings and buttons, then the collapsible groups: Fabric and the four of
+    the scene's sections."""
 
     class Command(Message):
         """A button: 'restart', 'defaults' or 'hide'."""
@@ -59,6 +64,9 @@ class Controls(VerticalScroll):
             yield Button("Restart", id="restart", compact=True, variant="primary")
             yield Button("Restore defaults", id="defaults", compact=True, variant="warning")
             yield Button("Hide", id="hide", compact=True, tooltip="hide the controls (c)")
+        with Collapsible(title="Fabric", collapsed=self._scene.material is None,
+                         id="group-fabric"):
+            yield FabricPanel(self._scene.material, id="fabric")
         for group in GROUPS:
             with Collapsible(title=group, collapsed=group != "Forces",
                              id="group-" + group.lower()):
@@ -72,10 +80,16 @@ class Controls(VerticalScroll):
         event.stop()
         self.post_message(self.Command(event.button.id or ""))
 
+    def on_mount(self) -> None:
+        self._show_replaced(self._scene)
+
     def show_value(self, dotted: str, scene: Scene) -> None:
         """Show `scene`'s value of the one key `dotted` (a scene with only it changed); a
-        key with no row of its own (a [material] key) shows nowhere."""
+        [material] key shows in the Fabric group."""
         self._scene = scene
+        if is_material_key(dotted):
+            self.show_fabric(scene)
+            return
         for field in self.query("#" + widget_id(dotted) + "-row").results(SettingField):
             field.show(scene.get(dotted))
 
@@ -83,10 +97,23 @@ class Controls(VerticalScroll):
         """Show every value of `scene` (after a refused edit, a reset or a scene change)."""
         self._scene = scene
         for field in self.query(SettingField):
-            if not field.dotted.startswith(("objects.", "pins.")):
+            if not field.dotted.startswith(("objects.", "pins.", PREFIX)):
                 field.show(scene.get(field.dotted))
         self.query_one(ObjectsPanel).show_objects(scene.objects)
         self.query_one(PinsPanel).show_pins(scene.pins)
+        self.show_fabric(scene)
+
+    def show_fabric(self, scene: Scene) -> None:
+        """The Fabric group shows `scene`'s fabric; the keys it replaces say so."""
+        self._scene = scene
+        self.query_one(FabricPanel).show_fabric(scene.material)
+        self._show_replaced(scene)
+
+    def _show_replaced(self, scene: Scene) -> None:
+        replaced = {} if scene.material is None else replaced_keys(scene.material.material)
+        for dotted in REPLACEABLE:
+            for field in self.query("#" + widget_id(dotted) + "-row").results(SettingField):
+                field.set_replaced(replaced.get(dotted))
 
 
 def all_panel_keys() -> list[str]:

@@ -81,11 +81,35 @@ def _number_text(text: str, t: str) -> Any:
     return text
 
 
-def label_text(dotted: str, spec: dataclasses.Field | None = None) -> str:
+# Units of keys declared without one (a share, a count per step): what the number counts.
+SHOWN_UNITS = {
+    "behavior.damping": "/18 ms",      # share of velocity lost per the original's step
+    "behavior.error_tolerance": "of L₀",
+    "behavior.tear_stretch": "of L₀",
+    "behavior.iterations": "/sub",
+    "behavior.substeps": "/frame",
+    "behavior.max_substeps": "/frame",
+    "cloth.resolution": "across",
+    "cloth.pin_fraction": "share",
+    "scene.friction": "μ",
+    "friction": "μ",                   # an object's
+    "stiffness": "share",              # a pin group's, 0–1
+    "scale": "×",                      # a mesh object's
+}
+
+
+def unit_text(dotted: str, spec: dataclasses.Field | None = None) -> str:
+    """The unit shown beside a key's value: its declared unit, else what it counts."""
     f = spec or key_spec(dotted)
-    name = dotted.split(".")[-1].replace("_", " ")
     unit = f.metadata["unit"]
-    return f"{name} [dim]({unit})[/]" if unit else name
+    if unit or f.metadata["choices"] or f.metadata["kind"] in ("color", "texture"):
+        return unit
+    return SHOWN_UNITS.get(dotted) or SHOWN_UNITS.get(dotted.split(".")[-1], "")
+
+
+def label_text(dotted: str, spec: dataclasses.Field | None = None) -> str:
+    """The key's name as a label ("gravity strength"); its unit has a column of its own."""
+    return dotted.split(".")[-1].replace("_", " ")
 
 
 class SettingField(Horizontal):
@@ -110,6 +134,7 @@ class SettingField(Horizontal):
         self.dotted = dotted
         self.spec = spec or key_spec(dotted)
         self._value = value
+        self._replaced_why: str | None = None
         self.tooltip = f"{dotted}: {self.spec.metadata['doc']}"
 
     @property
@@ -134,9 +159,29 @@ class SettingField(Horizontal):
             yield Input(format_value(v), id=wid, compact=True, select_on_focus=False)
             if m["kind"] == "color":
                 yield Static(" ", classes="swatch", id=wid + "-swatch")
+        unit = unit_text(self.dotted, self.spec)
+        if unit:
+            yield Label(unit, classes="setting-unit")
+
+    def set_replaced(self, why: str | None) -> None:
+        """Show the row as replaced by the fabric (`why`: what takes its place) rather than
+        as a live value, or (None) as live again. The value stays, for when the fabric
+        goes."""
+        if why == self._replaced_why:
+            return
+        self._replaced_why = why
+        self.set_class(why is not None, "-replaced")
+        self.tooltip = (f"{self.dotted}: not used with a fabric: {why}" if why is not None
+                        else f"{self.dotted}: {self.spec.metadata['doc']}")
+        if not self.is_mounted:
+            return
+        if why is not None and not self.query(".replaced-note"):
+            self.mount(Label("by the fabric", classes="replaced-note"), after=self.control)
 
     def on_mount(self) -> None:
         self._paint_swatch()
+        if self._replaced_why is not None:
+            self.mount(Label("by the fabric", classes="replaced-note"), after=self.control)
 
     def _paint_swatch(self) -> None:
         """The colour itself beside its #rrggbb text (always a valid one: the last good)."""

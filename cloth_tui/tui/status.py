@@ -180,9 +180,11 @@ class Readout:
         used = s.substeps_used or substeps
         shown = f"{substeps}" if used == substeps else f"{substeps} (now {used})"
         frame = self.tolerance_text()
+        fabric = f"{s.material} · " if s.material else ""  # named without a tolerance too
         frame_part = Part((frame, self.tolerance_text(short=True),
                            self.tolerance_text(compact=True)), 6) if frame else \
-            Part((f"cost [b]{self.frame_ms:6.2f}[/] ms/frame", f"{self.frame_ms:.1f} ms/frame"), 6)
+            Part((f"{fabric}cost [b]{self.frame_ms:6.2f}[/] ms/frame",
+                  f"{fabric}{self.frame_ms:.1f} ms/frame"), 6)
         cost = [frame_part,
                 Part((f"{self.step_ms:5.3f} ms/step at {iterations} iterations × {shown} "
                       f"substeps", f"{self.step_ms:.3f} ms/step · {iterations}×{used}",

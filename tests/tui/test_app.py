@@ -32,10 +32,12 @@ def test_panel_controls_change_the_scene(tmp_path):
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
-            # one control per scene key, in four groups
+            # one control per scene key, in four groups, and the Fabric group
             for dotted in all_keys():
                 assert app.query_one("#" + widget_id(dotted)) is not None
-            assert len(app.query(Collapsible)) == 4
+            assert [c.title for c in app.query(Collapsible)
+                    if (c.id or "").startswith("group-")] \
+                == ["Fabric", "Forces", "Scene", "Behavior", "Appearance"]
             assert app.sim.paused  # commands still run between frames while paused
 
             # Switch → app scene, sim scene and renderer scene

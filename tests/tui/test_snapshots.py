@@ -17,6 +17,7 @@ import pytest
 from textual.containers import ScrollableContainer
 from textual.widgets import Collapsible
 
+from cloth_tui.scene import Scene
 from cloth_tui.scene_files import load
 from cloth_tui.tui.status import RateMeter
 
@@ -124,6 +125,32 @@ def test_80x24_screens_match_baselines(tmp_path, monkeypatch):
             await shot("narrow-drawer")
             await pilot.press("c", "question_mark")
             await shot("narrow-help")
+
+    run(go())
+    problems = [p for p in problems if p]
+    if problems:
+        pytest.fail("\n".join(problems))
+
+
+def test_fabric_screens_match_baselines(tmp_path, monkeypatch):
+    """Denim on: the Fabric group (its list and values in units), and the Scene and
+    Behavior groups with the keys it replaces shown as such."""
+    monkeypatch.setattr(RateMeter, "rate", lambda self, now=None: 0.0)
+    problems = []
+
+    async def go():
+        app = make_app(tmp_path, Scene().with_value("material.preset", "denim"))
+        async with app.run_test(size=SIZE) as pilot:
+            await until(pilot, lambda: app.preview.frames_shown > 1 and app._crosshair_placed
+                        and app.readout.stats.material == "denim")
+            await pilot.pause(0.5)
+            shot = shots(app, pilot, problems)
+            groups = list(app.query(Collapsible))
+            for name in ("fabric", "scene", "behavior"):
+                for c in groups:
+                    c.collapsed = c.id != f"group-{name}"
+                await pilot.pause(0.1)
+                await shot(f"fabric-{name}")
 
     run(go())
     problems = [p for p in problems if p]
