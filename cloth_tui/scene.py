@@ -23,6 +23,7 @@ from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .scene_keys import MIN_DIRECTION_NORM, SceneError, key, vec3
 from .sim import shapes
+from .sim.solvers import registry as solver_registry
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
 
@@ -34,12 +35,20 @@ TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) o
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
 MASS_MODELS = ("area", "uniform")
 PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
-SOLVERS = ("pbd", "hpbd", "xpbd", "springs")
+SOLVERS = solver_registry.Names()  # live: a solver registered later is a choice too
 INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
                "implicit_euler")
 SHAPE_TYPES = shapes.single_object_names()  # scene.object: the original's shapes
 OBJECT_TYPES = shapes.names()
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
+
+
+def _auto_integrators() -> str:
+    """"verlet for hpbd/pbd/xpbd, implicit_euler for springs": what `auto` means, by solver."""
+    by_integrator: dict[str, list[str]] = {}
+    for n in SOLVERS:
+        by_integrator.setdefault(solver_registry.spec(n).integrators[0], []).append(n)
+    return ", ".join(f"{i} for {'/'.join(ns)}" for i, ns in by_integrator.items())
 
 
 @dataclass
@@ -169,12 +178,12 @@ class Behavior:
                             hi=10000.0)
     damping: float = key(0.03, "share of velocity lost per 18 ms (the original's step)",
                          lo=0.0, hi=1.0, hi_open=True)
-    solver: str = key("hpbd", "hpbd (pbd with coarse levels: the accuracy at a cost that "
-                      "grows with the sheet, not its cube), pbd (the original's Gauss-Seidel "
-                      "position projection), xpbd (compliant), springs (Hooke)",
+    solver: str = key(solver_registry.DEFAULT,
+                      ", ".join(solver_registry.spec(n).summary for n in sorted(
+                          SOLVERS, key=lambda n: n != solver_registry.DEFAULT)),
                       choices=SOLVERS)
-    integrator: str = key("auto", "time integrator; auto: verlet for pbd/xpbd, implicit_euler "
-                          "(stable at any step) for springs", choices=INTEGRATORS)
+    integrator: str = key("auto", "time integrator; auto: each solver's own (" + _auto_integrators()
+                          + "); a solver refuses one it does not run", choices=INTEGRATORS)
     compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,
                             hi=1.0)
     stiffness: float = key(2000.0, "springs: spring constant (explicit integrators need "
@@ -418,11 +427,11 @@ def _check_texture(value: str, bad) -> None:
 
 
 def integrator_for(behavior: Behavior) -> str:
-    """The integrator a solver runs: `auto` is verlet for pbd/xpbd and implicit_euler for
-    springs, the one integrator stable at any substep length for stiff springs."""
+    """The integrator a solver runs: `auto` is the first its spec names (verlet for the
+    position-based solvers, implicit_euler, stable at any substep length, for springs)."""
     if behavior.integrator != "auto":
         return behavior.integrator
-    return "implicit_euler" if behavior.solver == "springs" else "verlet"
+    return solver_registry.spec(behavior.solver).integrators[0]
 
 
 def validate(scene: Scene) -> None:
@@ -431,9 +440,12 @@ def validate(scene: Scene) -> None:
     problem = solver_problem(scene.material, b.solver)
     if problem:
         raise SceneError(problem)
-    if b.solver in ("pbd", "hpbd", "xpbd") and b.integrator not in ("auto", "verlet"):
+    runs = solver_registry.spec(b.solver).integrators
+    if b.integrator not in ("auto",) + runs:
+        able = " or ".join(f'"{n}"' for n in SOLVERS
+                           if b.integrator in solver_registry.spec(n).integrators)
         raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
-                         f"\"springs\"; {b.solver} predicts positions with verlet")
+                         f"{able}; {b.solver} runs {', '.join(runs)}")
     if b.wave and 2 * math.pi * b.wave_amplitude * b.wave_frequency > b.max_speed:
         raise SceneError(f"behavior.wave_amplitude = {b.wave_amplitude:g} m at "
                          f"behavior.wave_frequency = {b.wave_frequency:g} Hz drives the edge at "

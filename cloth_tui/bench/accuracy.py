@@ -28,12 +28,14 @@ from ..scene import Scene
 from ..sim import pipeline
 from ..sim.model import build_model
 from ..sim.measures import energy, stretch
-from ..sim.solvers import PositionBasedSolver
-from ..sim.springs import ORDERS
+from ..sim.solvers import registry as solver_registry
+from ..sim.solvers.springs.integrators import ORDERS
 from ..sim.state import ClothState
 from .accuracy_physical import physical_calls, physical_study
 
 INTEGRATORS = tuple(ORDERS)           # springs integrators, in the order of the tables
+# The position-based solvers compared with them: every registered solver of constraints.
+CONSTRAINT_SOLVERS = solver_registry.Names(solves_constraints=True)
 BLOWUP_STRETCH = 1.0                  # |L/L0 − 1| beyond which a run counts as blown up
 BLOWUP_DISTANCE = 10.0                # × sheet size: a particle this far from its start
 CHECK_INTERVAL = 0.01                 # s of simulated time between blow-up checks
@@ -171,9 +173,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
     h = step.h
     steps = max(1, int(round(t_end / h)))
     check = max(1, int(round(CHECK_INTERVAL / h)))
-    solver = step.solver
-    lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
-    e0 = energy(model, state, scene, lambdas, h)
+    e0 = energy(model, state, scene, step.solver)
     scale = model.mass.sum() * max(scene.forces.gravity_strength, 1e-12) * model.extent
     x0 = state.x.copy()
     limit = BLOWUP_DISTANCE * model.extent
@@ -199,7 +199,7 @@ def simulate(scene: Scene, model, t_end: float) -> Run:
                 stable = False
                 break
     cpu = time.thread_time() - cpu0
-    drift = (energy(model, state, scene, lambdas, h) - e0) / scale if stable else math.nan
+    drift = (energy(model, state, scene, step.solver) - e0) / scale if stable else math.nan
     # Other processes share the cores and preempt some chunks: the cost of a substep is the
     # lower quartile of the chunks' rates, which such interruptions do not reach.
     wall = float(np.percentile(rates, 25)) * steps if rates else 0.0
@@ -231,7 +231,7 @@ def reference(cfg: StudyConfig) -> dict:
 def point(cfg: StudyConfig, ref: dict, method: str, dt: float, iterations: int | None = None,
           stiffness: float | None = None) -> dict:
     """One run of the study, compared with the reference."""
-    solver = method if method in ("pbd", "xpbd") else "springs"
+    solver = method if method in CONSTRAINT_SOLVERS else "springs"
     sc = study_scene(cfg, solver, method if solver == "springs" else "verlet", dt,
                      iterations or 1, stiffness)
     model = study_model(sc)
@@ -259,7 +259,7 @@ def warm_up(cfg: StudyConfig) -> None:
     """Compile (or load the cached) kernels of every method, so no run pays for it."""
     tiny = dataclasses.replace(cfg, t_end=4 * CHECK_INTERVAL, timing_budget=0.0)
     ref = {"x": np.zeros((cfg.n * cfg.n, 3))}
-    for m in INTEGRATORS + ("pbd", "xpbd"):
+    for m in INTEGRATORS + tuple(CONSTRAINT_SOLVERS):
         point(tiny, ref, m, 1e-3, 2)
 
 
@@ -344,7 +344,7 @@ def sag_run(cfg: StudyConfig, solver: str, iterations: int) -> float:
 
 
 def sag_calls(cfg: StudyConfig) -> list[tuple]:
-    return [(sag_run, (cfg, solver, it)) for solver in ("pbd", "xpbd")
+    return [(sag_run, (cfg, solver, it)) for solver in CONSTRAINT_SOLVERS
             for it in cfg.sag_iterations] + [(sag_run, (cfg, "springs", 0))]
 
 
@@ -356,7 +356,7 @@ def sag_study(cfg: StudyConfig, sags: list | None = None) -> dict:
     results of sag_calls, if already run."""
     sags = iter(sags if sags is not None else run_serially(sag_calls(cfg)))
     rows = {solver: {str(it): next(sags) for it in cfg.sag_iterations}
-            for solver in ("pbd", "xpbd")}
+            for solver in CONSTRAINT_SOLVERS}
     spread = {s: (max(v.values()) - min(v.values())) for s, v in rows.items()}
     return {"iterations": list(cfg.sag_iterations), "sag": rows,
             "spread": spread,
@@ -398,7 +398,7 @@ def run_study(cfg: StudyConfig, progress=None, run_all=None) -> dict:
     ref, = run_all([(reference, (cfg,))])
     point_calls = [(point, (cfg, ref, integ, dt))
                    for integ in INTEGRATORS for dt in cfg.ladders.get(integ, ())]
-    point_calls += [(point, (cfg, ref, solver, dt, it)) for solver in ("pbd", "xpbd")
+    point_calls += [(point, (cfg, ref, solver, dt, it)) for solver in CONSTRAINT_SOLVERS
                     for it in cfg.pbd_iterations for dt in cfg.pbd_dts]
     n_sag, cantilever = len(sag_calls(cfg)), physical_calls(cfg.cantilever_links)
     calls = point_calls + stability_calls(cfg) + sag_calls(cfg) + cantilever

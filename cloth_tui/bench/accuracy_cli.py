@@ -16,8 +16,10 @@ from .accuracy_physical import format_physical
 METHOD_STYLE = {  # colour, marker
     "explicit_euler": ("tab:red", "o"), "symplectic_euler": ("tab:cyan", "s"),
     "verlet": ("tab:green", "^"), "midpoint": ("tab:olive", "v"), "rk4": ("tab:blue", "D"),
-    "implicit_euler": ("tab:purple", "P"), "pbd": ("tab:gray", "h"), "xpbd": ("tab:orange", "*"),
+    "implicit_euler": ("tab:purple", "P"),
 }
+# Position-based solvers: a colour map each, light to dark with the iterations.
+SOLVER_SHADES = ("Greys", "Oranges", "Greens", "Purples", "Blues")
 
 
 class PlotError(Exception):
@@ -134,7 +136,7 @@ def format_report(r: dict) -> str:
     out += ["", f"Settled sag (m) of the centre, sheet pinned at 4 corners, dt = {sg['dt']:.3g} s,"
                 f" {sg['t_end']} s settling (xpbd α = {sg['compliance']:g} m/N):",
             f"{'iterations':<12}" + "".join(f"{i:>10}" for i in sg["iterations"]) + f"{'spread':>10}"]
-    for solver in ("pbd", "xpbd"):
+    for solver in sg["sag"]:
         out.append(f"{solver:<12}" + "".join(f"{sg['sag'][solver][str(i)]:>10.4f}"
                                              for i in sg["iterations"])
                    + f"{sg['spread'][solver]:>10.4f}")
@@ -173,11 +175,13 @@ def plot_work_precision(r: dict, path: Path) -> None:
     for (method, label), pts in groups.items():
         color, marker = METHOD_STYLE.get(method, ("black", "o"))
         dashed = False
-        if pts[0]["iterations"]:  # pbd, xpbd: light to dark with the iteration count
+        if pts[0]["iterations"]:  # a position-based solver: shaded by its iterations
             its = sorted({q["iterations"] for q in r["points"] if q["method"] == method})
             shade = 0.4 + 0.55 * its.index(pts[0]["iterations"]) / max(1, len(its) - 1)
-            color = plt.get_cmap("Greys" if method == "pbd" else "Oranges")(shade)
-            dashed = method == "pbd"
+            solvers = list(r["sag"]["sag"])  # the position-based solvers, in the study's order
+            shades = SOLVER_SHADES[solvers.index(method) % len(SOLVER_SHADES)]
+            color = plt.get_cmap(shades)(shade)
+            dashed = solvers.index(method) % 2 == 0
         ok = sorted((p for p in pts if p["stable"]), key=lambda p: -p["dt"])
         if ok:
             ax.plot([p["time"] for p in ok], [p["error"] for p in ok], marker=marker,

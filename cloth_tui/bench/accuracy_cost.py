@@ -17,12 +17,15 @@ import math
 import statistics
 import time
 
-# (label, the scene keys it sets): the default scene's solver first
-SOLVERS: tuple[tuple[str, dict], ...] = (
-    ("hpbd, hierarchical", {}),
-    ("pbd, gauss-seidel", {"behavior.solver": "pbd"}),
-    ("xpbd, gauss-seidel", {"behavior.solver": "xpbd"}),
-)
+from ..sim.solvers import registry as solver_registry
+
+
+def solver_runs() -> tuple[tuple[str, dict], ...]:
+    """(label, the scene keys it sets) of every registered solver of constraints, the
+    default scene's own first."""
+    own = solver_registry.DEFAULT
+    rest = [n for n in solver_registry.names(solves_constraints=True) if n != own]
+    return ((own, {}),) + tuple((n, {"behavior.solver": n}) for n in rest)
 SIZES = (32, 64, 128, 256)
 QUICK_SIZES = (32, 64)
 
@@ -53,12 +56,8 @@ def run_once(scene, frames: int) -> dict:
 
 def _passes(sim) -> float:
     """Constraint passes per substep, a hierarchy's coarse levels counted in fine passes."""
-    from ..sim.solvers import PositionBasedSolver
-
     solver = sim.step.solver
-    if isinstance(solver, PositionBasedSolver):
-        return solver.passes_per_substep
-    return float(sim.scene.behavior.iterations)
+    return 0.0 if solver is None else solver.passes_per_substep
 
 
 def bench_cost(n: int, overrides: dict, frames: int, repeats: int) -> dict:
@@ -93,12 +92,12 @@ def growth_exponent(rows: list[dict], key: str = "ms_per_frame", lo: int = 0,
 
 
 def bench_accuracy_cost(sizes=None, quick: bool = False, progress=lambda msg: None,
-                        solvers=SOLVERS) -> dict:
+                        solvers=None) -> dict:
     """Every solver at every size, side by side, with the fitted growth exponents."""
     sizes = list(sizes or (QUICK_SIZES if quick else SIZES))
     frames, repeats = (12, 2) if quick else (60, 3)
     out = []
-    for label, overrides in solvers:
+    for label, overrides in solvers or solver_runs():
         rows = []
         for n in sizes:
             progress(f"cost of accuracy: {label}, n={n}")

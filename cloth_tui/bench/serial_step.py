@@ -9,7 +9,7 @@ import math
 
 from ..sim.jit import kernel
 from ..sim.stages import damping_factor
-from ..sim.xpbd import project_constraints
+from ..sim.solvers.xpbd.constraints import project_constraints
 
 
 @kernel()

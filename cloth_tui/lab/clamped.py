@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from ..sim.solvers import registry as solver_registry
 from .elastica import cantilever
 from .peirce import PEIRCE_ANGLE, overhang, peirce_rigidity
 from .strips import particles_across, strip_scene, timed_frames, warmed_simulation
@@ -86,10 +87,11 @@ def substeps_for(spacing: float, material, frame_rate: float) -> int:
     return max(SUBSTEPS, math.ceil(1.0 / (frame_rate * longest)))
 
 
-def clamped_strip(free_length: float, links: int, material, solver: str = "xpbd"):
+def clamped_strip(free_length: float, links: int, material, solver: str | None = None):
     """(scene, rows, columns, h): the strip of `links` free links clamped by its first
-    three columns, held where the flat sheet lies; a SceneError if `solver` cannot
-    simulate the material."""
+    three columns, held where the flat sheet lies, solved by `solver` (the reference solver
+    if None); a SceneError if it cannot simulate the material."""
+    solver = solver or solver_registry.reference()
     h = free_length_spacing(free_length, links)
     cols = links + HELD_COLUMNS
     length = (cols - 1) * h
@@ -112,7 +114,7 @@ def _tip(sim, rows: int, cols: int) -> tuple[float, float]:
             float(np.mean(x[:, -1, 0] - edge_x)))
 
 
-def settle_clamped(free_length: float, links: int, material, solver: str = "xpbd") -> dict:
+def settle_clamped(free_length: float, links: int, material, solver: str | None = None) -> dict:
     """Runs the clamped strip to rest (its tip still to SETTLED_DRIFT·L over half a period);
     returns its tip's drop and reach from the clamp's edge (m, mean over the rows), the
     line's angle below horizontal, the wall time and the solve's settings."""

@@ -10,8 +10,12 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
+from ..sim.solvers import registry as solver_registry
+
 MAX_RESOLUTION = 256  # segments along a strip (particles across a disc): minutes beyond
-MATERIAL_SOLVERS = ("xpbd", "hpbd")  # what a test of a material may run it with (--solver)
+# What a test of a material may run it with (--solver): every solver that takes one, the
+# reference first (the lab's default: its results are stated for it).
+MATERIAL_SOLVERS = solver_registry.Names(takes_material=True, reference_first=True)
 
 
 class LabError(ValueError):

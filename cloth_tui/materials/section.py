@@ -21,13 +21,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from ..sim.solvers import registry as solver_registry
 from ..user_values import short_repr
 from .errors import MaterialError
 from .schema import ALL_KEYS, Material, material_from_table
 
 ORIGINAL = "original"
 NAME = "material"
-SOLVERS = ("hpbd", "xpbd")  # the solvers whose constraints take a compliance per constraint
 
 
 @dataclass(frozen=True)
@@ -91,8 +91,11 @@ def section_to_table(section: MaterialSection) -> dict:
 
 def solver_problem(section: MaterialSection | None, solver: str) -> str | None:
     """Why the scene's solver cannot simulate its material, or None."""
-    if section is None or solver in SOLVERS:
+    able = solver_registry.names(takes_material=True)
+    if section is None or solver in able:
         return None
-    return (f"[{NAME}] ({section.name}) needs behavior.solver = \"hpbd\" or \"xpbd\", "
-            f"whose constraints take the material's compliance; {solver} has none (or "
-            f"write {NAME} = \"{ORIGINAL}\" for the original's unitless keys)")
+    quoted = " or ".join(f'"{n}"' for n in able)
+    return (f"[{NAME}] ({section.name}) needs behavior.solver = {quoted}, whose "
+            f"constraints take the material's "
+            f"compliance; {solver} has none (or write {NAME} = \"{ORIGINAL}\" for the "
+            f"original's unitless keys)")

@@ -5,7 +5,7 @@ structural edges alone, each with its own XPBD compliance α = 1/k from the fabr
 and the strip of sheet the edge stands for (material.pair_compliance); shear is one
 constraint per cell (material.cell_shear_strain, α = 1/(G·dx·dz)); bending is the grid
 bending energy's stencils (bending.py), each a vector constraint C_s = D_s·x of compliance
-1/(B·w_s); masses are the areal density × each particle's dual cell. fabric_solve.py
+1/(B·w_s); masses are the areal density × each particle's dual cell. xpbd/fabric_constraints.py
 projects the cells and stencils; docs/physics.md ("Materials in SI units") derives it all.
 """
 

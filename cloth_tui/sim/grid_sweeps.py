@@ -1,4 +1,4 @@
-"""Colour sweeps over the regular grid: xpbd.py's projection as long vector loops.
+"""Colour sweeps over the regular grid: xpbd/constraints.py's projection as long vector loops.
 
 Every constraint of the sheet joins grid particle (i, j) to (i + di, j + dj) for one of six
 offsets, and model.py's 12 colours split each offset by the parity of a row or a column (or
@@ -211,7 +211,7 @@ def _match_slots(slot_a: np.ndarray, slot_b: np.ndarray, edges: np.ndarray,
 def coincident_direction(a, b):
     """The separation (length COINCIDENT) given to constraint a–b when its ends coincide and
     have no direction of their own: any fixed, pair-dependent direction will do, so a crushed
-    sheet unfolds instead of staying collapsed. One rule for the plain loop (xpbd.py) and the
+    sheet unfolds instead of staying collapsed. One rule for the plain loop (xpbd/constraints.py) and the
     sweeps, so both unfold a sheet the same way."""
     dx = math.sin(1.3 * a + 7.1 * b)
     dy = math.cos(3.7 * a - 1.9 * b)
@@ -292,7 +292,7 @@ def _run_compliant(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive, lam, alp
 def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t,
                   keeps_lambda, a, b):
     """The pairs `_pair` left: ends (particles a and b) closer than COINCIDENT separate along
-    xpbd.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as with the
+    xpbd/constraints.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as with the
     plain loop. Pairs of one colour share no particle, so doing these after the rest of
     their chunk changes nothing."""
     wa = wa_run[t]

@@ -97,7 +97,7 @@ def max_solve_error(x, edges, rest, alive, lambdas, alpha_tilde) -> float:
     for e in range(edges.shape[0]):
         if not alive[e]:
             continue
-        # λ is accumulated with C = L0 − L in the projection (xpbd.py), hence the signs
+        # λ is accumulated with C = L0 − L in the projection (xpbd/constraints.py): the signs
         r = abs(rest[e] - edge_length(x, edges, e) - alpha_tilde[e] * lambdas[e]) / rest[e]
         if r != r:
             return r
@@ -209,33 +209,19 @@ def gravitational_energy(model: ClothModel, state: ClothState, scene: Scene) -> 
     return scene.forces.gravity_strength * float(_weighted_height(model.mass, state.x))
 
 
-def elastic_energy(model: ClothModel, state: ClothState, scene: Scene,
-                   lambdas: np.ndarray | None = None, h: float = 0.0,
-                   alpha_tilde=None) -> float:
-    """Elastic energy by the solver's force estimate (module docstring), J. For xpbd,
-    `lambdas` are the last substep's multipliers and `h` its length; without them (before
-    any substep) the constraints have exerted no force yet. `alpha_tilde`: α/h² of the
-    constraints, one for all or per constraint (an array allocates nothing);
-    behavior.compliance/h² when None."""
-    b = scene.behavior
-    if not model.num_constraints:
+def xpbd_elastic_energy(lambdas: np.ndarray, alpha_tilde: np.ndarray, h: float) -> float:
+    """Σ ½ α f² (f = λ/h²) over constraints of multipliers `lambdas` and α̃ = α/h²
+    `alpha_tilde` (one per constraint) at a substep of h, J; 0 before any substep."""
+    if h <= 0.0 or not len(lambdas):
         return 0.0
-    if b.solver == "springs":
-        return float(spring_energy(state.x, model.edges, model.rest_length, state.alive,
-                                   b.stiffness))
-    if b.solver == "xpbd" and lambdas is not None and h > 0.0:
-        h2 = h * h
-        alpha_tilde = per_constraint(b.compliance / h2 if alpha_tilde is None else alpha_tilde,
-                                     len(lambdas))
-        return float(_xpbd_elastic(lambdas, alpha_tilde, h2))
-    return 0.0
+    return float(_xpbd_elastic(lambdas, alpha_tilde, h * h))
 
 
-def energy(model: ClothModel, state: ClothState, scene: Scene,
-           lambdas: np.ndarray | None = None, h: float = 0.0, alpha_tilde=None) -> float:
-    """Kinetic + gravitational + elastic energy, J."""
-    return (kinetic_energy(model, state) + gravitational_energy(model, state, scene)
-            + elastic_energy(model, state, scene, lambdas, h, alpha_tilde))
+def energy(model: ClothModel, state: ClothState, scene: Scene, solver=None) -> float:
+    """Kinetic + gravitational + elastic energy, J, the elastic part by `solver`'s own
+    estimate (solvers.base.SolverBase.elastic_energy; none without a solver)."""
+    elastic = 0.0 if solver is None else solver.elastic_energy(state)
+    return kinetic_energy(model, state) + gravitational_energy(model, state, scene) + elastic
 
 
 def potential_floor(model: ClothModel, state: ClothState, scene: Scene,

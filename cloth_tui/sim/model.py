@@ -17,6 +17,7 @@ from .forces import wave_rows
 from .grid_sweeps import grid_colors
 from .material import Grid
 from .pins import PinLayout, layout
+from .solvers import registry
 
 FAMILIES = ("structural", "shear", "bending")
 STRUCTURAL, SHEAR, BENDING = 0, 1, 2
@@ -161,16 +162,16 @@ def nearest_pins(rest: np.ndarray, pins: np.ndarray, seed: int) -> tuple:
 
 
 def uses_tethers(behavior, material=None) -> bool:
-    """Tethers serve the position-based solvers, and only a sheet (some constraint family
-    on) is inextensible enough for its pins to bound its particles. With springs, projecting positions the
-    integrator then keeps moving adds energy (measured: +0.13 J a frame on the default 0.5 J
-    sheet with implicit Euler, which the divergence guard rightly rejects). A sheet that may
+    """Tethers serve the solvers whose spec says so (the position-based ones), and only a
+    sheet (some constraint family on) is inextensible enough for its pins to bound its
+    particles. With springs, projecting positions the integrator then keeps moving adds
+    energy (the divergence guard rightly rejects it with implicit Euler). A sheet that may
     tear has none: a tether holds each particle within its flat-sheet distance of a pin, so
     no pull could stretch the sheet to tearing, and a torn flap would hang on by nothing.
     A material has none either: a tether is no force of the fabric's, and would hold its
     particles from stretching as the fabric does."""
-    return (material is None and behavior.tethers and behavior.solver != "springs" and not behavior.tear
-            and (behavior.structural or behavior.shear or behavior.bending))
+    return (material is None and behavior.tethers and registry.spec(behavior.solver).tethers
+            and not behavior.tear and (behavior.structural or behavior.shear or behavior.bending))
 
 
 def particle_masses(nx: int, nz: int, total: float, mass_model: str = "area") -> np.ndarray:

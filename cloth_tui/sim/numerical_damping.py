@@ -5,9 +5,9 @@ A frame's numerical damping is
 
     d = (E_start − E_end − asked) / (F_start · Δt)      (1/s)
 
-with E the sheet's energy (measures.energy, or with a material every constraint family's,
-`sheet_energy`), `asked` the kinetic energy the damping key took (behavior.damping, or a
-material's own rate, which replaces it), F_start the free energy at the frame's start (its
+with E the sheet's energy (measures.energy: kinetic, gravitational and the solver's own
+estimate of the elastic, a material's every constraint family included), `asked` the kinetic
+energy the damping key took (behavior.damping, or a material's own rate, which replaces it), F_start the free energy at the frame's start (its
 energy above the lowest it could reach, measures.free_energy) and Δt the frame's length. It
 is measured only where nothing else moves energy in or out (`measurable`, `touching`); the
 runner's substep control bounds its mean (substep_control.py) and the report is a running
@@ -21,13 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene import Scene
-from .fabric_solve import ProjectFabric, fabric_force_energy
 from .material import damping_factor as decay_factor
-from .measures import energy, gravitational_energy, kinetic_energy
 from .model import ClothModel
-from .solvers import PositionBasedSolver
 from .stages import damping_factor
-from .state import ClothState
 
 # A particle closer than this many skins to a collider may be in contact, whose friction and
 # inelastic contacts lose energy the numerical damping must not be blamed for.
@@ -37,29 +33,15 @@ CONTACT_SKINS = 2.0
 AVERAGE_FRAMES = 30
 
 
-def sheet_energy(model: ClothModel, state: ClothState, scene: Scene, solver, h: float,
-                 alpha_tilde) -> float:
-    """J: kinetic + gravitational + elastic by the solver's own force estimate; a material
-    stores energy in its shear cells and bending stencils too (fabric_force_energy)."""
-    if isinstance(solver, PositionBasedSolver) and isinstance(solver.projection,
-                                                              ProjectFabric):
-        return (kinetic_energy(model, state) + gravitational_energy(model, state, scene)
-                + fabric_force_energy(solver.projection, h))
-    lambdas = (solver.lambdas if scene.behavior.solver == "xpbd"
-               and isinstance(solver, PositionBasedSolver) else None)
-    return energy(model, state, scene, lambdas, h, alpha_tilde)
-
-
-def measurable(scene: Scene, model: ClothModel, stepping: bool, sources: bool,
+def measurable(scene: Scene, model: ClothModel, solver, stepping: bool, sources: bool,
                held: bool) -> bool:
     """Whether all the energy a frame loses is either asked for or numerical: it steps, no
-    source adds any (`sources`), no self-contact, spring damping or soft pin takes any, and
-    the sheet's lowest reachable energy is bounded (`held` by pins, a floor, or no
-    gravity)."""
-    b = scene.behavior
-    if sources or b.self_collision != "off" or not stepping:
+    source adds any (`sources`), no self-contact, damping of the solver's own (the springs'
+    spring_damping) or soft pin takes any, and the sheet's lowest reachable energy is
+    bounded (`held` by pins, a floor, or no gravity)."""
+    if sources or scene.behavior.self_collision != "off" or not stepping:
         return False
-    if b.solver == "springs" and b.spring_damping > 0.0:
+    if solver is not None and solver.damps_unaccounted:
         return False
     if model.pin_layout is not None and len(model.pin_layout.soft.index):
         return False

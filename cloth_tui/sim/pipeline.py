@@ -13,8 +13,9 @@ The order of a substep's stages lives here and only here (`assemble`):
     contacts_after_friction each collider once more: out of what friction slid it into
     apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
     solver.velocities()
-A scene without wind has no wind effect, so it runs no wind code. Effects, force effects,
-colliders and solvers are the Protocols of protocols.py. The stages read their numbers
+A scene without wind has no wind effect, so it runs no wind code. Effects, force effects and
+colliders are the Protocols of protocols.py; solvers are SolverBase subclasses found through
+the registry (solvers/registry.py). The stages read their numbers
 (strengths, friction, damping, α) from the step's `params` (params.py): changing those is
 `Step.retune`, not a new step.
 """
@@ -26,12 +27,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..scene import Scene
-from . import (colliders, forces, impulses, selfcollision, solvers, springs,
-               tearing)
+from . import colliders, forces, impulses, selfcollision, tearing
 from .model import ClothModel
 from .params import StepParams
 from .pins import pin_effects
-from .protocols import Collider, Effect, ForceEffect, Solver
+from .protocols import Collider, Effect, ForceEffect
+from .solvers import SolverBase, registry
 from .stages import ApplyPins, EnforceTethers
 
 
@@ -43,7 +44,7 @@ class Step:
     h: float                        # substep length, s
     colliders: list[Collider] = field(default_factory=list)
     frame_effects: list[Effect] = field(default_factory=list)  # once per frame, first
-    solver: Solver | None = None    # None when integration is off
+    solver: SolverBase | None = None  # None when integration is off
     params: StepParams = field(default_factory=StepParams)  # what the stages read
 
     def retune(self, scene: Scene, model: ClothModel) -> None:
@@ -79,23 +80,22 @@ class Step:
 
 
 def make_solver(scene: Scene, model: ClothModel, h: float, force_effects: list[ForceEffect],
-                params: StepParams) -> Solver:
-    b = scene.behavior
-    if b.solver == "springs":
-        return springs.SpringSolver(model, b, force_effects, params)
-    return solvers.PositionBasedSolver(model, b, force_effects, h, params)
+                params: StepParams) -> SolverBase:
+    """The scene's solver, as the registry names it."""
+    solver_class = registry.spec(scene.behavior.solver).solver_class()
+    return solver_class(model, scene.behavior, force_effects, h, params)
 
 
-def tear_stage(scene: Scene, model: ClothModel, solver: Solver) -> Effect:
-    """By the material's strength where it has one (its constraints carry the fabric's
-    forces), else by behavior.tear_stretch (tearing.py)."""
+def tear_stage(scene: Scene, model: ClothModel, solver: SolverBase) -> Effect:
+    """By the material's strength where it has one and the solver keeps the multipliers its
+    constraints pull with (their forces), else by behavior.tear_stretch (tearing.py)."""
     strength = tearing.tear_strength(scene.behavior, model)
-    if strength is not None and isinstance(solver, solvers.PositionBasedSolver):
+    if strength is not None and solver.lambdas is not None:
         return tearing.TearByStrength(model, solver.lambdas, strength)
     return tearing.TearConstraints(model, scene.behavior.tear_stretch)
 
 
-def assemble(solver: Solver, model: ClothModel, collider_effects: list[Collider],
+def assemble(solver: SolverBase, model: ClothModel, collider_effects: list[Collider],
              contact_effects: list[Effect], tear: Effect | None = None) -> list[Effect]:
     """The substep's stages, in order (see the module's docstring)."""
     move_pins, soft_pins = pin_effects(model)

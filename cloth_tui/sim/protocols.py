@@ -3,7 +3,8 @@
 An Effect acts on the state once per substep (or once per frame). Force effects can also be
 evaluated at any positions and velocities, for integrators that take several stages per
 substep. Colliders are effects that also measure penetration and say where their object is.
-A Solver supplies its own stages; the order they run in is pipeline.assemble's alone.
+A solver (solvers/base.py) supplies its own stages; the order they run in is
+pipeline.assemble's alone.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 if TYPE_CHECKING:
-    from .params import StepParams
     from .state import ClothState
 
 
@@ -61,23 +61,3 @@ class Collider(Effect, Protocol):
     def pose(self, t: float) -> ObjectPose | None:
         """Where the object is at time t, for the renderer; None if the renderer draws it
         from the scene itself (the floor)."""
-
-
-class Solver(Protocol):
-    """What distinguishes a solver: how it integrates (forces included), which constraint
-    stages it runs after the contacts, and how it sets velocities at the end."""
-    name: str
-
-    def integrate(self) -> list[Effect]:
-        ...
-
-    def constraints(self) -> list[Effect]:
-        ...
-
-    def velocities(self) -> Effect:
-        ...
-
-    def retune(self, params: StepParams, model) -> None:
-        """Remake what the solver derived from the step's parameters (params.py) and the
-        model's numbers (masses, a fabric's α: model.refitted) when they change; what its
-        stages read directly, they read as they run."""

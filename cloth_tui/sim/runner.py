@@ -11,20 +11,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene import Behavior, Scene, SceneError, integrator_for
+from ..scene import Scene, SceneError
 from . import pipeline
-from .measures import (all_finite, elastic_energy, free_energy, gravitational_energy,
-                       kinetic_energy, per_constraint, potential_floor, solve_error, stretch)
+from .measures import (all_finite, energy, free_energy, gravitational_energy, kinetic_energy,
+                       per_constraint, potential_floor, solve_error, stretch)
 from .held_contacts import check_held_particles, held_inputs_differ
 from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
-from .numerical_damping import DampingMeter, asked_loss, measurable, sheet_energy, touching
+from .numerical_damping import DampingMeter, asked_loss, measurable, touching
 from .params import same_structure
 from .pins import with_user_pin
 from .run_stats import FrameStats, RunStats
 from .state import ClothState
 from .substep_control import SubstepController
-from .fabric_solve import ProjectFabric
-from .solvers import PositionBasedSolver
+from .solvers import registry
 from .tearing import cut_between, strength_tolerance, tear_strength
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
@@ -51,20 +50,6 @@ GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recove
 def _material(scene: Scene):
     """The scene's material (materials.schema.Material), None for the original's keys."""
     return None if scene.material is None else scene.material.material
-
-
-def halt_advice(b: Behavior) -> str:
-    """What to change when a frame diverges even at the guard's most substeps: only keys that
-    matter to the solver in use, and no integrator the scene already has."""
-    if b.solver == "springs":
-        advice = "lower behavior.stiffness or raise behavior.substeps"
-        if integrator_for(b) != "implicit_euler":
-            advice += ", or use behavior.integrator = implicit_euler (stable at any step)"
-        return advice
-    if b.solver == "xpbd":
-        return ("raise behavior.compliance or behavior.substeps, or weaken the forces "
-                "(gravity, wind, custom fields)")
-    return "raise behavior.substeps, or weaken the forces (gravity, wind, custom fields)"
 
 
 def has_energy_source(scene: Scene) -> bool:
@@ -122,7 +107,7 @@ class Simulation:
         # Springs stretch as their stiffness says, whatever the step: there the tolerance is
         # reported, and substeps are the guard's business alone.
         self.control = SubstepController(self._error_tolerance(), b.substeps, b.max_substeps,
-                                         adaptive=b.adaptive and b.solver != "springs",
+                                         adaptive=b.adaptive and self._solves_constraints(),
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
         self._measured_met: bool | None = None  # fixed substeps: the last stats()' verdict
@@ -131,6 +116,10 @@ class Simulation:
         self._sources = has_energy_source(scene)
         self._find_nearest_pins()
         self._build_step()
+
+    def _solves_constraints(self) -> bool:
+        """Whether the scene's solver leaves a solve error to bound (registry.SolverSpec)."""
+        return registry.spec(self.scene.behavior.solver).solves_constraints
 
     def _error_tolerance(self) -> float:
         """behavior.error_tolerance, or tighter where the sheet tears by strength: tight
@@ -252,8 +241,8 @@ class Simulation:
         return self.damping_meter.average
 
     def _damping_measurable(self) -> bool:
-        return measurable(self.scene, self.model, bool(self.step.effects), self._sources,
-                          self._pin_distance is not None)
+        return measurable(self.scene, self.model, self.step.solver, bool(self.step.effects),
+                          self._sources, self._pin_distance is not None)
 
     def _measure_damping(self, e_start: float | None) -> None:
         """The numerical damping of the frame just run, where it can be told apart."""
@@ -281,14 +270,15 @@ class Simulation:
         return None if floor is None else free_energy(self._energy(), floor, self.model)
 
     def _watch_energy(self) -> bool:
-        return self.scene.behavior.solver == "springs" and not self._sources
+        solver = self.step.solver
+        return solver is not None and solver.watches_energy and not self._sources
 
     def _energy_scale(self) -> tuple[float, float]:
         """(energy, scale) at the start of a frame, for the energy-gain check; no bound
         (inf) where a contact will push a particle out of a skin at depth/h, a gain that
         more substeps raise: growth from a source, not from the step."""
         m, st, sc = self.model, self.state, self.scene
-        internal = kinetic_energy(m, st) + elastic_energy(m, st, sc)
+        internal = kinetic_energy(m, st) + self.step.solver.elastic_energy(st)
         g = sc.forces.gravity_strength if sc.forces.gravity else 0.0
         scale = float(m.mass.sum()) * g * m.extent + internal + 1e-12
         if self._overlapping():
@@ -306,25 +296,24 @@ class Simulation:
         return all_finite(self.state.x, self.state.v)
 
     def _problem(self, e0: tuple[float, float] | None) -> str | None:
-        """What is wrong with the frame just run, or None: not finite, or (springs only)
-        energy gained from nowhere or, for explicit integrators, a spring at over twice its
-        rest length. Every solver clamps speeds to max_speed, so speed shows nothing. A
-        position-based step cannot run away while finite (its prediction is clamped,
-        projection and contacts only move particles towards satisfied constraints and
-        surfaces), and may legitimately stretch a lot at few iterations; a force-based
-        integrator going unstable shows as energy or as stretch."""
+        """What is wrong with the frame just run, or None: not finite, or (a force-based
+        solver, whose `watches_energy`) energy gained from nowhere or, for explicit
+        integrators, a spring at over twice its rest length. Every solver clamps speeds to
+        max_speed, so speed shows nothing. A position-based step cannot run away while
+        finite (its prediction is clamped, projection and contacts only move particles
+        towards satisfied constraints and surfaces), and may legitimately stretch a lot at
+        few iterations; a force-based integrator going unstable shows as energy or as
+        stretch."""
         if not self._finite():
             return "not finite"
-        b = self.scene.behavior
-        if b.solver != "springs":
+        solver = self.step.solver
+        if solver is None or not solver.watches_energy:
             return None
         if e0 is not None:
             e_start, scale = e0
             if self._energy() - e_start > ENERGY_GAIN_DIVERGED * scale:
                 return "energy gained"
-        # Implicit Euler is stable at any step: a soft sheet may stretch far and be right.
-        # An explicit integrator going unstable shows first as stretch (its speeds are clamped).
-        if integrator_for(b) != "implicit_euler" and self._max_stretch() > SPRING_DIVERGED:
+        if solver.may_overstretch_unstably and self._max_stretch() > SPRING_DIVERGED:
             return "overstretched"
         return None
 
@@ -354,7 +343,7 @@ class Simulation:
             # Even 16× the substeps diverges: hold the last good state and say why, rather
             # than show garbage or restart the sheet every frame.
             self.halted = (f"the step diverges even at {self.step.substeps} substeps per "
-                           f"frame; {halt_advice(self.scene.behavior)}, then restart")
+                           f"frame; {self.step.solver.halt_advice()}, then restart")
             return
         self._guard_level += 1
         self._build_step()
@@ -411,26 +400,22 @@ class Simulation:
 
     # -- reporting ------------------------------------------------------------------------
     def _alpha_tilde_now(self) -> np.ndarray:
-        """α̃ = α/h² of the step's constraints, one per constraint (0 for pbd and springs),
-        made once per step."""
+        """α̃ = α/h² of the step's constraints, one per constraint (0 for rigid ones and
+        springs), made once per step."""
         if self._alpha_tilde is None:
             solver = self.step.solver
-            xpbd = isinstance(solver, PositionBasedSolver) and (
-                self.scene.behavior.solver == "xpbd"
-                or isinstance(solver.projection, ProjectFabric))  # hpbd's with a material
-            self._alpha_tilde = per_constraint(solver.projection.alpha_t if xpbd else 0.0,
+            self._alpha_tilde = per_constraint(0.0 if solver is None else solver.alpha_tilde,
                                                self.model.num_constraints)
         return self._alpha_tilde
 
     def _solve_error(self) -> float:
         solver = self.step.solver  # pbd keeps a λ array too (zeros), so nothing is allocated
-        lambdas = solver.lambdas if isinstance(solver, PositionBasedSolver) else None
+        lambdas = None if solver is None else solver.lambdas
         return solve_error(self.model, self.state.x, self.state.alive, lambdas,
                            self._alpha_tilde_now())
 
     def _energy(self) -> float:
-        return sheet_energy(self.model, self.state, self.scene, self.step.solver, self.step.h,
-                            self._alpha_tilde_now())
+        return energy(self.model, self.state, self.scene, self.step.solver)
 
     def frame_stats(self) -> FrameStats:
         """The statistics cheap enough for every frame."""
@@ -453,8 +438,7 @@ class Simulation:
         max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
                          else (float("nan"),) * 2)
         speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
-        error = (self._solve_error() if finite and self.scene.behavior.solver != "springs"
-                 else None)
+        error = self._solve_error() if finite and self._solves_constraints() else None
         energy_tolerance = self.control.energy_tolerance
         if not self.control.adaptive:  # (adaptive: the controller's verdict, per frame)
             self._measured_met = (None if error is None and energy_tolerance is None

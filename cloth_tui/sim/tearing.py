@@ -2,9 +2,9 @@
 
 The model's constraints do not change; the state keeps which are intact (`state.alive`, 1 or
 0 per constraint in model.edges order) and how many are broken (`state.torn`, counted by
-`_record_breaks` alone). Every solver skips a broken constraint (xpbd.py, springs.py,
-implicit.py), the measures leave it out (measures.py), a material's shear cells and bending
-stencils across a broken edge leave with it (fabric_solve.py), and the renderer drops the
+`_record_breaks` alone). Every solver skips a broken constraint (xpbd/constraints.py, springs/integrators.py,
+springs/implicit_euler.py), the measures leave it out (measures.py), a material's shear cells and bending
+stencils across a broken edge leave with it (xpbd/fabric_constraints.py), and the renderer drops the
 triangles that lost an edge (`intact_triangles`).
 
 Break criterion, checked once per substep after the constraint solve, in tension only:
@@ -14,7 +14,7 @@ Break criterion, checked once per substep after the constraint solve, in tension
 
       −λ/h² / w  >  tear_strength   →   alive = 0
 
-  with λ the edge's multiplier of the substep (tension makes it negative: xpbd.py) and w the
+  with λ the edge's multiplier of the substep (tension makes it negative: xpbd/constraints.py) and w the
   strip of sheet the edge stands for (material.strip_width). λ/h² is the force the
   constraint exerted in the substep, not its stretch read through the stiffness: a solve
   left short of convergence (few substeps, few passes) stretches the sheet further than the
@@ -78,7 +78,7 @@ def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
 @kernel()
 def break_overloaded_constraints(lambdas, breaking_force, alive, h2) -> int:
     """alive[e] = 0 for every intact constraint whose tension −λ/h² exceeds
-    breaking_force[e] (N); returns how many broke. λ < 0 in tension (xpbd.py's C = |x_b −
+    breaking_force[e] (N); returns how many broke. λ < 0 in tension (xpbd/constraints.py's C = |x_b −
     x_a| − L0 projected as Δλ = (−C − α̃λ)/…); a NaN λ breaks nothing (the runner's guard
     sees the NaN state)."""
     broken = 0

@@ -8,7 +8,8 @@ import pytest
 
 from cloth_tui.materials.presets import get_preset
 from cloth_tui.scene import Scene
-from cloth_tui.sim import grid_sweeps, xpbd
+from cloth_tui.sim import grid_sweeps
+from cloth_tui.sim.solvers.xpbd import constraints as xpbd
 from cloth_tui.sim.material import ALONG_X, ALONG_Z, pair_compliance, pair_kinds, strip_width
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.runner import Simulation
@@ -130,8 +131,9 @@ def test_the_materials_damping_is_a_decay_rate_whatever_the_substeps(substeps):
 def test_the_runners_energy_with_a_material_counts_its_shear_and_bending_too():
     # A denim sheet swinging from one edge bends and shears: the energy the runner reports
     # (and the numerical damping reads) holds every family's ½αf², not the edges' alone.
-    from cloth_tui.sim.fabric_solve import fabric_force_energy
-    from cloth_tui.sim.measures import energy, gravitational_energy, kinetic_energy
+    from cloth_tui.sim.solvers.xpbd.fabric_constraints import fabric_force_energy
+    from cloth_tui.sim.measures import (gravitational_energy, kinetic_energy, per_constraint,
+                                        xpbd_elastic_energy)
     scene = fabric_scene("denim", **{"cloth.pinned": "one_edge", "cloth.resolution": 12,
                                      "scene.floor": False, "behavior.substeps": 8})
     sim = Simulation(scene)
@@ -142,6 +144,9 @@ def test_the_runners_energy_with_a_material_counts_its_shear_and_bending_too():
     elastic = fabric_force_energy(solver.projection, sim.step.h)
     assert reported == pytest.approx(kinetic_energy(m, st)
                                      + gravitational_energy(m, st, scene) + elastic)
-    edges_only = energy(m, st, scene, solver.lambdas, sim.step.h, solver.alpha_tilde)
+    edges_only = (kinetic_energy(m, st) + gravitational_energy(m, st, scene)
+                  + xpbd_elastic_energy(solver.lambdas,
+                                        per_constraint(solver.alpha_tilde, m.num_constraints),
+                                        sim.step.h))
     # the cells' and stencils' share is there, and is no rounding
     assert reported - edges_only > 1e-3 * elastic > 0.0

@@ -1,12 +1,12 @@
 """hpbd with a material: the coarse corrections of the structural edges' λ
-(sim/fabric_hierarchy.py) solve XPBD's own system on a subspace, so they leave a converged
+(sim/solvers/hpbd/multiplier_levels.py) solve XPBD's own system on a subspace, so they leave a converged
 step as it is and speed up the rest; the sheet ends where converged xpbd puts it."""
 
 import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.fabric_hierarchy import DualHierarchy, edge_aggregates
+from cloth_tui.sim.solvers.hpbd.multiplier_levels import DualHierarchy, edge_aggregates
 from cloth_tui.sim.runner import Simulation
 
 from .test_fabric_resolution import centre_height, clipped_sheet

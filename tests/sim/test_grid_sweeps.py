@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import grid_sweeps, xpbd
+from cloth_tui.sim import grid_sweeps
+from cloth_tui.sim.solvers.xpbd import constraints as xpbd
 from cloth_tui.sim.model import build_model
 
 

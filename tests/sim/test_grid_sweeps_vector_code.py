@@ -12,7 +12,7 @@ from cloth_tui.bench.step_bench import bare_scene
 from cloth_tui.bench.vector_code import count_float_ops, projection_kernel_ops
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.state import ClothState
-from cloth_tui.sim.xpbd import ProjectConstraints
+from cloth_tui.sim.solvers.xpbd.constraints import ProjectConstraints
 
 pytestmark = pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"),
                                 reason="count_float_ops reads x86 assembly")

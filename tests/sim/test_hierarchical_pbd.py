@@ -9,10 +9,10 @@ from its pin). hpbd runs the scene's default settings, adaptive substeps include
 import numpy as np
 import pytest
 
-from cloth_tui.sim.hierarchical_pbd import ProjectHierarchy
+from cloth_tui.sim.solvers.hpbd.position_levels import ProjectHierarchy
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.state import ClothState
-from cloth_tui.sim.xpbd import ProjectConstraints
+from cloth_tui.sim.solvers.xpbd.constraints import ProjectConstraints
 
 from .helpers import run, scene
 
@@ -126,7 +126,7 @@ def test_the_sweeps_give_the_plain_loops_positions(n, torn):
     """The cascade as grid_sweeps' colour runs moves every particle as the plain loop over
     each level's constraint list does (the same colours in the same order), a cut
     included."""
-    from cloth_tui.sim.hierarchical_pbd import cascade_loop
+    from cloth_tui.sim.solvers.hpbd.position_levels import cascade_loop
 
     sim = Simulation(scene(cloth__resolution=n, behavior__solver="hpbd",
                            behavior__tear=torn))

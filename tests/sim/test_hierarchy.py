@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from cloth_tui.sim.hierarchy import axis_nodes, build_levels, torn_flags
+from cloth_tui.sim.solvers.hpbd.level_grids import axis_nodes, build_levels, torn_flags
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.tearing import cut_between
 from cloth_tui.sim.state import ClothState
@@ -56,7 +56,7 @@ def test_a_level_weighs_the_whole_sheet_and_pins_its_corners():
 def test_coarse_constraints_are_at_rest_on_the_flat_sheet():
     """Restricting the flat sheet gives each coarse pair its rest length: a sheet at rest has
     nothing for a coarse level to correct."""
-    from cloth_tui.sim.hierarchical_pbd import ProjectHierarchy
+    from cloth_tui.sim.solvers.hpbd.position_levels import ProjectHierarchy
 
     m = model_of(cloth__resolution=21, cloth__pinned="one_edge")
     st = ClothState.from_model(m)

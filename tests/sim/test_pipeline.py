@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from cloth_tui.scene import Scene
-from cloth_tui.sim import pipeline
+from cloth_tui.scene import Scene, SceneError
+from cloth_tui.sim import pipeline, solvers
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.state import ClothState
 
@@ -13,24 +13,53 @@ def build(**keys):
     s = Scene().with_value("cloth.resolution", 8).with_value("scene.object", "sphere")
     for k, v in keys.items():
         s = s.with_value(k.replace("__", "."), v)
-    model = build_model(s.cloth, s.behavior)
+    material = None if s.material is None else s.material.material
+    model = build_model(s.cloth, s.behavior, s.pins, material)
     return pipeline.build(s, model), ClothState.from_model(model), model
 
 
-@pytest.mark.parametrize("solver,integrate,constraints,velocities", [
-    ("pbd", ["gravity", "integrate_verlet"],
-     ["project_constraints", "resolve_contacts", "contact_friction", "contacts_after_friction"], "update_velocities"),
-    ("xpbd", ["gravity", "integrate_verlet"],
-     ["project_xpbd_constraints", "resolve_contacts", "contact_friction", "contacts_after_friction"], "update_velocities"),
-    # springs: integrator "auto" is implicit Euler; no tethers (model.uses_tethers)
-    ("springs", ["integrate_implicit_euler"], ["contact_friction", "contacts_after_friction"], "correct_velocities"),
-])
-def test_every_solver_runs_the_one_stage_order(solver, integrate, constraints, velocities):
-    step, _, _ = build(behavior__solver=solver, behavior__tethers=True)
+CONTACTS_AFTER = ["contact_friction", "contacts_after_friction"]
+# Each registered solver's own stages (integrate, constraints, velocities), without and with
+# a material; None: the solver refuses a material (scene validation says so).
+STAGES = {
+    "pbd": ((["gravity", "integrate_verlet"], ["project_constraints"], "update_velocities"),
+            None),
+    "hpbd": ((["gravity", "integrate_verlet"], ["project_coarse_levels", "project_constraints"],
+              "update_velocities"),
+             (["gravity", "integrate_verlet"], ["project_fabric_levels"], "update_velocities")),
+    "xpbd": ((["gravity", "integrate_verlet"], ["project_xpbd_constraints"],
+              "update_velocities"),
+             (["gravity", "integrate_verlet"], ["project_fabric_constraints"],
+              "update_velocities")),
+    # springs: integrator "auto" is implicit Euler; no constraint stage, no tethers
+    "springs": ((["integrate_implicit_euler"], [], "correct_velocities"), None),
+}
+
+
+def test_the_stage_table_covers_every_registered_solver():
+    assert set(STAGES) == set(solvers.names())
+
+
+@pytest.mark.parametrize("material", [None, "denim"])
+@pytest.mark.parametrize("solver", sorted(STAGES))
+def test_every_solver_runs_the_one_stage_order(solver, material):
+    keys = {"behavior__solver": solver, "behavior__tethers": True}
+    if material:
+        keys["material__preset"] = material
+    expected = STAGES[solver][1 if material else 0]
+    if expected is None:
+        with pytest.raises(SceneError, match="needs behavior.solver"):
+            build(**keys)
+        return
+    integrate, constraints, velocities = expected
+    step, _, model = build(**keys)
     assert step.solver.name == solver
-    contacts = ["collide_floor", "collide_sphere"] + (["enforce_tethers"]
-                                                      if solver != "springs" else [])
-    assert step.names == integrate + contacts + constraints + ["apply_pins", velocities]
+    tethers = ["enforce_tethers"] if solvers.spec(solver).tethers and not material else []
+    assert (model.tether_pin is not None) == bool(tethers)
+    contacts = ["collide_floor", "collide_sphere"] + tethers
+    resolve = ["resolve_contacts"] if constraints else []
+    assert step.names == (integrate + contacts + constraints + resolve + CONTACTS_AFTER
+                          + ["apply_pins", velocities])
 
 
 def test_xpbd_multipliers_are_public_and_converge_to_minus_c_over_alpha():

@@ -313,12 +313,17 @@ def test_an_unstable_explicit_step_is_still_caught_with_an_energy_source_on():
 
 
 def test_halt_advice_names_only_what_fits_the_solver():
-    from cloth_tui.scene import Behavior
-    from cloth_tui.sim.runner import halt_advice
+    from cloth_tui.scene import Scene
+    from cloth_tui.sim import pipeline
+    from cloth_tui.sim.model import build_model
 
-    implicit = halt_advice(Behavior(solver="springs", integrator="implicit_euler"))
+    def advice(**behavior) -> str:
+        s = Scene().with_values({f"behavior.{k}": v for k, v in behavior.items()})
+        return pipeline.build(s, build_model(s.cloth, s.behavior)).solver.halt_advice()
+
+    implicit = advice(solver="springs", integrator="implicit_euler")
     assert "stiffness" in implicit and "implicit_euler" not in implicit
-    assert "implicit_euler" in halt_advice(Behavior(solver="springs", integrator="verlet"))
-    for solver in ("pbd", "xpbd"):
-        assert "stiffness" not in halt_advice(Behavior(solver=solver))
-    assert "compliance" in halt_advice(Behavior(solver="xpbd"))
+    assert "implicit_euler" in advice(solver="springs", integrator="verlet")
+    for solver in ("pbd", "hpbd", "xpbd"):
+        assert "stiffness" not in advice(solver=solver)
+    assert "compliance" in advice(solver="xpbd")

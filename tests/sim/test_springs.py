@@ -11,7 +11,7 @@ from cloth_tui.scene import Scene
 from cloth_tui.sim import pipeline
 from cloth_tui.sim.runner import Simulation
 from cloth_tui.sim.params import StepParams
-from cloth_tui.sim.springs import ORDERS, IntegrateSprings
+from cloth_tui.sim.solvers.springs.integrators import ORDERS, IntegrateSprings
 from cloth_tui.sim.state import ClothState
 
 K, M, L0, AMP = 40.0, 0.1, 1.0, 0.05   # ω = 20 rad/s, period ≈ 0.314 s
@@ -172,5 +172,5 @@ def test_implicit_euler_cg_converges_within_cap():
     st = ClothState.from_model(model)
     for _ in range(10):
         step.substep(st)
-    from cloth_tui.sim.springs import CG_MAX_ITERATIONS
+    from cloth_tui.sim.solvers.springs.integrators import CG_MAX_ITERATIONS
     assert 0 < step.effects[0].cg_iterations < CG_MAX_ITERATIONS

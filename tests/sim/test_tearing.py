@@ -197,7 +197,7 @@ def test_a_particle_whose_every_constraint_is_torn_is_left_where_it_was():
     # Through the solver's own projection (grid_sweeps' colour sweeps, serial or parallel as
     # chosen); tests/sim/test_grid_sweeps.py checks the sweeps skip exactly the torn
     # constraints the plain loop skips, for both kernels.
-    from cloth_tui.sim import xpbd
+    from cloth_tui.sim.solvers.xpbd import constraints as xpbd
     from cloth_tui.sim.state import ClothState
     s = Scene()
     s.cloth.resolution = 40

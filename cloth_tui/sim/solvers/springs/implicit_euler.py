@@ -2,7 +2,7 @@
 
     (M − h²K − hD) Δv = h (f + h K v),  v' = v + Δv,  x' = x + h v'
 
-K = ∂f/∂x, D = ∂f/∂v of the springs and the drag (see springs.py for the model). The
+K = ∂f/∂x, D = ∂f/∂v of the springs and the drag (see integrators.py for the model). The
 transverse part of each spring's K is clamped to tension (max(0, 1 − L0/L)) so the matrix
 stays symmetric positive definite; it is solved matrix-free by Jacobi-preconditioned
 conjugate gradients, warm-started from the last substep's Δv.
@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 
-from .jit import kernel
+from ...jit import kernel
 
 DEGENERATE_LENGTH = 1e-12  # m: a spring this short has no direction and exerts no force
 CG_TOLERANCE = 1e-6        # relative residual ‖r‖/‖b‖ at which conjugate gradients stops

@@ -27,7 +27,7 @@ the PBD solver's `damping`, see stages.damping_factor) and the scene's force eff
                       matrix stays symmetric positive definite; it is solved matrix-free by
                       Jacobi-preconditioned conjugate gradients, warm-started from the last
                       substep's Δv (relative residual 1e-6, at most CG_MAX_ITERATIONS
-                      iterations; implicit.py).
+                      iterations; implicit_euler.py).
 
 After the integrator, the substep runs the contact effects (colliders, self-collision; they
 read x_prev = the substep's start positions), then the pins, then `correct_velocities`: a
@@ -45,11 +45,11 @@ import math
 
 import numpy as np
 
-from ..scene import ORIGINAL_TIMESTEP, integrator_for
-from .implicit import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
-from .jit import kernel
-from .params import StepParams
-from .protocols import Effect, ForceEffect
+from ....scene import ORIGINAL_TIMESTEP, integrator_for
+from .implicit_euler import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
+from ...jit import kernel
+from ...params import StepParams
+from ...protocols import ForceEffect
 
 ORDERS = {"explicit_euler": 1, "symplectic_euler": 1, "verlet": 2, "midpoint": 2, "rk4": 4,
           "implicit_euler": 1}
@@ -278,26 +278,3 @@ class CorrectVelocities:
     def apply(self, state, h):
         finish_velocities(state.x, state.x_prev, self.integrate.x_pred, state.v, self.inv_mass,
                           1.0 / h, self.params.max_speed)
-
-
-class SpringSolver:
-    """Force-based: the integrator evaluates springs and force effects itself; there is no
-    constraint stage; velocities are the integrator's except where a contact or pin moved a
-    particle. Stiffness, damping and the speed limit are read from `params` each substep."""
-
-    def __init__(self, model, behavior, forces: list[ForceEffect], params: StepParams):
-        self.name = "springs"
-        self.integrator = IntegrateSprings(model, behavior, forces, params)
-        self._velocities = CorrectVelocities(model, self.integrator, params)
-
-    def retune(self, params: StepParams, model) -> None:
-        """Nothing to remake: every number, and the model's masses, are read as they run."""
-
-    def integrate(self) -> list[Effect]:
-        return [self.integrator]
-
-    def constraints(self) -> list[Effect]:
-        return []
-
-    def velocities(self) -> Effect:
-        return self._velocities

@@ -23,10 +23,10 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import (COINCIDENT, NO_SLOT_ALPHAS, coincident_direction, plan_sweeps,
+from ...grid_sweeps import (COINCIDENT, NO_SLOT_ALPHAS, coincident_direction, plan_sweeps,
                           slot_alphas, sweep, sweep_grid_colors, sweep_grid_colors_parallel)
-from .jit import kernel
-from .threads import KernelChoice
+from ...jit import kernel
+from ...threads import KernelChoice
 
 # Below this many constraints per colour, thread start-up costs more than it saves.
 PARALLEL_MIN_PER_COLOR = 4096
@@ -150,7 +150,7 @@ class ProjectConstraints:
     def slot_lambdas(self) -> tuple[np.ndarray, np.ndarray]:
         """(λ in the sweeps' slot order, the slot of each constraint): the live multipliers
         of a substep between `project` calls with fresh = False, for a correction of them
-        (fabric_hierarchy.py) that the next passes go on from."""
+        (hpbd/multiplier_levels.py) that the next passes go on from."""
         return self._scratch.lam, self._plan.edge_slot
 
     def project(self, state, iterations: int, fresh: bool) -> None:

@@ -1,6 +1,6 @@
-"""Hierarchical PBD: each substep, the coarse levels (hierarchy.py) are projected coarsest
+"""Hierarchical PBD: each substep, the coarse levels (level_grids.py) are projected coarsest
 first, each level's correction handed down by interpolation, before the fine Gauss-Seidel
-passes (xpbd.py's sweeps, α = 0).
+passes (xpbd/constraints.py's sweeps, α = 0).
 
 Why: a Gauss-Seidel pass carries a correction about one particle, so the stretch a load
 leaves on a taut n × n sheet falls only after ~n² passes, and the substeps that keep it under
@@ -9,7 +9,7 @@ of the work of the level below, so the low-frequency part of the error is gone b
 fine passes start, which then only smooth what lies between coarse particles.
 
 The cascade, per substep: restrict the sheet's positions up through the levels (each node
-the weighted mean of the finer particles around it, hierarchy.py); then from the coarsest
+the weighted mean of the finer particles around it, level_grids.py); then from the coarsest
 level down, start each level at its restriction plus the interpolated displacement of the
 level above, run one-sided Gauss-Seidel passes over its constraints (more on coarser levels,
 which are cheap), and keep its displacement from its restriction; the sheet's particles get
@@ -28,9 +28,9 @@ import math
 
 import numpy as np
 
-from .grid_sweeps import NUM_COLORS, SweepPlan, SweepScratch, correct_pair, plan_sweeps
-from .hierarchy import Level, build_levels, torn_flags
-from .jit import kernel
+from ...grid_sweeps import NUM_COLORS, SweepPlan, SweepScratch, correct_pair, plan_sweeps
+from .level_grids import Level, build_levels, torn_flags
+from ...jit import kernel
 
 COARSE_PASSES = 2  # one-sided passes per substep on the finest coarse level
 MAX_LEVEL_PASSES = 64  # (a 3 × 3 level is solved long before)

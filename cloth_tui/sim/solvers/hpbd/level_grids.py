@@ -1,6 +1,6 @@
 """The coarse levels of hierarchical PBD (after Müller 2008, "Hierarchical position based
 dynamics"): nested grids over the sheet, their constraints, and how positions pass between a
-level and the next finer one. Plain NumPy, built once per model; hierarchical_pbd.py runs
+level and the next finer one. Plain NumPy, built once per model; position_levels.py runs
 them.
 
 Level l (1, 2, ...) has a node at every row and column that is a multiple of 2^l counted from
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import SHEAR, STRUCTURAL, ClothModel
+from ...model import SHEAR, STRUCTURAL, ClothModel
 
 MIN_NODES = 3  # a level needs at least this many rows and columns
 

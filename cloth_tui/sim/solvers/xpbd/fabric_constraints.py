@@ -27,9 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fabric_hierarchy import DualHierarchy
-from .jit import kernel
-from .xpbd import ProjectConstraints
+from ...jit import kernel
+from .constraints import ProjectConstraints
 
 
 @kernel()
@@ -133,13 +132,13 @@ class ProjectFabric:
     """The constraint stage of xpbd with a material (module docstring). Keeps each family's
     multipliers of the last substep: `lambdas` (N·s², one per model.edges constraint, as
     ProjectConstraints), `cell_lambdas` (C,) and `stencil_lambdas` (S, 3). With
-    `hierarchy` (hpbd), a coarse correction of the edges' λ follows each of the first half
-    of the passes (fabric_hierarchy.py; the rest smooth what its blocks leave; at one pass
-    there is none, and hpbd is xpbd)."""
+    `levels` (hpbd's multiplier levels, hpbd/multiplier_levels.py), a coarse correction
+    of the edges' λ follows each of the first half of the passes (the rest smooth what its
+    blocks leave; at one pass there is none, and hpbd is xpbd)."""
 
     name = "project_fabric_constraints"
 
-    def __init__(self, model, iterations: int, h: float, hierarchy: bool = False):
+    def __init__(self, model, iterations: int, h: float, levels=None):
         f = model.fabric
         self.model = model
         self.fabric = f
@@ -153,8 +152,8 @@ class ProjectFabric:
         self.stencil_alive = np.ones(f.num_stencils, np.uint8)
         self._scale = 1.0 / (4.0 * f.grid.dx * f.grid.dz)
         self._masks_torn = 0  # state.torn when the masks were last made
-        self.hierarchy = DualHierarchy(model) if hierarchy else None
-        if hierarchy:
+        self.hierarchy = levels
+        if levels is not None:
             self.name = "project_fabric_levels"
 
     def retune(self, fabric, h: float) -> None:

@@ -1,6 +1,6 @@
-"""hpbd with a material: the fabric's XPBD passes (fabric_solve.py) with coarse corrections
-of the structural edges' multipliers between them, so that a large sheet's tension settles in
-a few passes and the sheet still stretches as the material says.
+"""hpbd with a material: the fabric's XPBD passes (xpbd/fabric_constraints.py) with coarse
+corrections of the structural edges' multipliers between them, so that a large sheet's
+tension settles in a few passes and the sheet still stretches as the material says.
 
 Why not hpbd's coarse levels of positions: rigid and one-sided, they take a fabric's stretch
 out (a denim sheet held by two clips sagged 0.500 m under them against 0.520 with converged
@@ -24,7 +24,7 @@ strip's short axis, once one block wide, stays so while its length goes on halvi
 aggregation multigrid). Since it is a correction of the same system on a subspace, the
 passes' fixed point (converged xpbd) is unchanged: a step that XPBD would leave as it is,
 it leaves as it is too. The shear cells and bending stencils are not coarsened (bending's
-λ is warm-started across substeps already, fabric_solve.py). The corrections follow the
+λ is warm-started across substeps already, xpbd/fabric_constraints.py). The corrections follow the
 first half of a substep's passes; the rest smooth the steps the blocks leave at their
 borders (docs/physics.md, "hpbd with a material", has what that and the cost measured).
 
@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
+from ...jit import kernel
 
 MIN_AGGREGATES = 4   # a level with fewer is not split again
 PRE_SWEEPS = 2       # Gauss-Seidel sweeps on a level before handing its residual down
@@ -159,7 +159,7 @@ def coarse_correction(x, inv_mass, edges, rest, alive, alpha_t, lam, edge_slot, 
     [entry_off[k], entry_off[k+1]), indices local to the level; `parent` and `entry_map` give
     a row's and an entry's place on the next level): with `assemble`, PᵀAP at the positions
     now (else the last one's); restrict r, a V-cycle from 0 (`pre` and `post` sweeps a
-    level, `coarsest` on the last), then λ and x. One call, not ~25 (denim at 26², 10 substeps: 3.31 → 3.15 ms a frame)."""
+    level, `coarsest` on the last), then λ and x. One kernel call for the whole cycle, not one a level and sweep."""
     levels = row_off.shape[0] - 1
     edge_normals(x, edges, alive, normals)
     if assemble:

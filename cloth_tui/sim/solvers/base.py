@@ -1,0 +1,114 @@
+"""What every solver is: a `SolverSpec` (its name and traits, light enough for the scene
+schema to read without compiling anything) and a `SolverBase` subclass (its stages and what
+the runner, the measures and the guard ask of it). registry.py holds the specs.
+
+A solver supplies three lists of stages, which pipeline.assemble puts in the substep's one
+order: `integrate()` (the forces and the prediction, or an integrator with the forces
+inside), `constraints()` (run after the contacts) and `velocities()` (last).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ..params import StepParams
+    from ..protocols import Effect, ForceEffect
+    from ..state import ClothState
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    """A solver as the scene, the lab, the bench and the docs know it.
+
+    `load` returns the solver's class (importing its kernels only then). `takes_material`:
+    its constraints take a compliance each, so it can run a [material]. `solves_constraints`:
+    it projects constraints, so the frame leaves a solve error for the accuracy control to
+    bound (a force-based solver stretches as its stiffness says, whatever the step).
+    `tethers`: it may add long-range attachments where pins exist (position-based solvers;
+    projected positions an integrator keeps moving would add energy). `integrators`: the
+    time integrators it runs, the first being what behavior.integrator = "auto" means.
+    `reference`: the plain solve of a material's implicit step, with no acceleration, that
+    the lab's results are stated for and faster solvers are measured against (one solver)."""
+    name: str
+    summary: str
+    load: Callable[[], type[SolverBase]]
+    takes_material: bool = False
+    solves_constraints: bool = True
+    tethers: bool = True
+    integrators: tuple[str, ...] = ("verlet",)
+    reference: bool = False
+
+    def solver_class(self) -> type[SolverBase]:
+        return self.load()
+
+
+class SolverBase:
+    """A solver's stages and the numbers its callers read. Subclasses set `name` and build
+    their stages in `__init__(model, behavior, forces, h, params)`.
+
+    `lambdas`: the constraint multipliers of the last substep, N·s², one per model.edges
+    constraint, or None where there are none (force-based); tearing by strength reads them.
+    `alpha_tilde`: α/h² of those constraints, a float for all alike or one per constraint.
+    `watches_energy`: a force-based integrator going unstable pumps energy in, so the
+    divergence guard compares each frame's energy with its start in a scene with no source;
+    `may_overstretch_unstably`: an unstable integrator shows first as stretch."""
+    name: str = ""
+    watches_energy: bool = False
+
+    def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
+                 params: StepParams):
+        self.model = model
+        self.behavior = behavior
+        self.h = h
+        self.params = params
+
+    # -- the stages ---------------------------------------------------------------------
+    def integrate(self) -> list[Effect]:
+        raise NotImplementedError
+
+    def constraints(self) -> list[Effect]:
+        return []
+
+    def velocities(self) -> Effect:
+        raise NotImplementedError
+
+    def retune(self, params: StepParams, model) -> None:
+        """Remake what the solver derived from the step's parameters (params.py) and the
+        model's numbers (masses, a fabric's α: model.refitted) when they change; what its
+        stages read directly, they read as they run."""
+
+    # -- what callers read --------------------------------------------------------------
+    @property
+    def lambdas(self) -> np.ndarray | None:
+        return None
+
+    @property
+    def alpha_tilde(self):
+        return 0.0
+
+    @property
+    def passes_per_substep(self) -> float:
+        """The constraint work of a substep in passes over the sheet's constraints."""
+        return 0.0
+
+    @property
+    def may_overstretch_unstably(self) -> bool:
+        return False
+
+    @property
+    def damps_unaccounted(self) -> bool:
+        """Whether the solver takes energy by a damping of its own that the numerical
+        damping's bookkeeping does not count as asked for (numerical_damping.measurable)."""
+        return False
+
+    def elastic_energy(self, state: ClothState) -> float:
+        """J stored in the constraints by the solver's own force estimate."""
+        return 0.0
+
+    def halt_advice(self) -> str:
+        """What to change when a frame diverges even at the guard's most substeps."""
+        return "raise behavior.substeps, or weaken the forces (gravity, wind, custom fields)"
