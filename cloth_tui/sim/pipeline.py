@@ -12,6 +12,7 @@ The order of a substep's stages lives here and only here (`assemble`):
     contact_friction        Coulomb friction on the contacts' whole substep motion
     contacts_after_friction each collider once more: out of what friction slid it into
     apply_pins, then soft_pins (pins.py; move_pins, first, moves keyed anchors)
+    contacts_after_soft_pins each collider once more, where soft pins pulled (colliders.py)
     solver.velocities()
 A scene without wind has no wind effect, so it runs no wind code. Effects, force effects and
 colliders are the Protocols of protocols.py; solvers are SolverBase subclasses found through
@@ -119,6 +120,9 @@ def assemble(solver: SolverBase, model: ClothModel, collider_effects: list[Colli
     if len(model.pinned):
         effects.append(ApplyPins(model))
     effects += soft_pins
+    if soft_pins and collider_effects:
+        # contacts win over soft attachments: a target inside an object drags no particle in
+        effects.append(colliders.ContactsAfterSoftPins(collider_effects))
     effects.append(solver.velocities())
     return effects
 

@@ -44,8 +44,6 @@ def test_a_soft_pin_target_inside_a_collider_leaves_its_particles_outside(where,
     assert st.penetration <= 1e-9, st.penetration
 
 
-@pytest.mark.xfail(strict=True, reason="pipeline.assemble does not yet run "
-                   "colliders.ContactsAfterSoftPins after soft_pins")
 def test_the_step_runs_contacts_after_the_soft_pins():
     sim = run(Simulation(pulled_into("floor", 0.999999)), 10)
     names = sim.step.names
