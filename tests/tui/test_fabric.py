@@ -173,3 +173,29 @@ def test_every_quantity_field_shows_its_unit_whole_and_help_tells_of_the_fabric(
             assert any("g/m²" in what and "µN·m" in what for _, what in groups["Fabric"])
             assert any("fabric" in what for _, what in groups["Fields"])
     run(go())
+
+
+def test_a_scene_whose_solver_takes_no_fabric_opens_without_it_and_says_why(tmp_path):
+    async def go():
+        app = make_app(tmp_path, Scene().with_value("material.preset", "denim"))
+        async with app.run_test(size=SIZE) as pilot:
+            app.open_scene("tear")  # pbd: no compliance for a fabric's constraints
+            await pilot.pause(0.1)
+            assert app.scene.behavior.solver == "pbd" and app.scene.material is None
+            told = [m for m in notifications(app) if m.startswith("Opened scene tear")]
+            assert told and "fabric denim not kept" in told[0] and "hpbd" in told[0]
+            assert app.query_one(FabricPanel).has_class("-original")
+            assert not app.choose_fabric("silk")  # refused, and told why
+            assert app.scene.material is None
+            assert any("needs behavior.solver" in m for m in notifications(app))
+    run(go())
+
+
+def test_the_status_line_names_the_fabric_without_an_error_tolerance_too():
+    from cloth_tui.sim.run_stats import RunStats
+    from cloth_tui.tui.status import Readout
+
+    r = Readout()
+    r.on_snapshot(1, RunStats(material="denim", frame_ms=3.0))
+    _, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
+    assert cost.startswith("denim · cost")
