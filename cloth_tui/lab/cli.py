@@ -51,10 +51,11 @@ def _check_plot_path(path: Path) -> None:
 
 class _ProgressLine:
     """One updating stderr line, on a terminal only; a compile notice ends its own line
-    first."""
+    first. `end()` ends a line left open, so what follows (an error) starts a fresh one."""
 
     def __init__(self, test: str, notice, enabled: bool) -> None:
         self.test, self.notice, self.enabled = test, notice, enabled
+        self.open = False
 
     def __call__(self, done: int, total: int, what: str) -> None:
         if not self.enabled:
@@ -62,8 +63,65 @@ class _ProgressLine:
         self.notice.finish()
         text = (f"lab {self.test}: {done}/{total} runs" +
                 (f", now {what}…" if done < total else " done"))
-        sys.stderr.write(f"\r{text}\x1b[K" + ("\n" if done >= total else ""))
+        self.open = done < total
+        sys.stderr.write(f"\r{text}\x1b[K" + ("" if self.open else "\n"))
         sys.stderr.flush()
+
+    def end(self) -> None:
+        if self.open:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            self.open = False
+
+
+def _refuse_material(experiment, material_name: str | None) -> None:
+    """A test whose result no material changes (catenary, swing: only mass and length,
+    and the sag and period are the same for any mass) refuses --material rather than name a
+    fabric in its report that played no part."""
+    if material_name is not None and not experiment.solvers:
+        raise UsageError(f"--material: {experiment.name} measures a strip without bending "
+                         f"stiffness, the same for every fabric; --material is for the "
+                         f"tests of a material (cantilever, peirce, drape)")
+
+
+def _specimen_problem(experiment, n: int, material, solver) -> str | None:
+    """Why the test's specimen at resolution `n` cannot be built (its scene refused), or
+    None: every case is built up to where its simulation would start, nothing run."""
+    from ..scene import SceneError
+    from .strips import SpecimenBuilt, specimen_only
+
+    for case in experiment.cases(material):
+        try:
+            with specimen_only():
+                experiment.measure(case, n, material, solver)
+        except SpecimenBuilt:
+            continue
+        except (SceneError, LabError) as e:
+            return str(e)
+    return None
+
+
+def check_resolutions(experiment, resolutions: list[int], material, solver) -> None:
+    """Refuse, before any run, a resolution whose specimen the scene format cannot hold (the
+    substeps a fine strip needs, the pins of a fine disc): in the user's terms, N and the
+    range this test runs with this material, rather than a scene key the user never set,
+    after the coarser resolutions have run for minutes."""
+    problems = {n: _specimen_problem(experiment, n, material, solver) for n in resolutions}
+    bad = [n for n in resolutions if problems[n]]
+    if not bad:
+        return
+    lo, hi = experiment.min_resolution, bad[0] - 1  # the largest N that runs: bisection,
+    while lo <= hi:                                 # the specimen's needs grow with N
+        mid = (lo + hi) // 2
+        if _specimen_problem(experiment, mid, material, solver):
+            hi = mid - 1
+        else:
+            lo = mid + 1
+    fabric = f" with {material.preset}" if material is not None and material.preset else ""
+    runs = (f"runs N = {experiment.min_resolution}–{hi} ({experiment.resolution_meaning})"
+            if hi >= experiment.min_resolution else "runs at no resolution")
+    raise UsageError(f"--resolutions: {experiment.name}{fabric} {runs}; at N = {bad[0]} its "
+                     f"specimen cannot be built ({problems[bad[0]]})")
 
 
 def run_lab(args) -> int:
@@ -71,6 +129,7 @@ def run_lab(args) -> int:
 
     try:
         experiment = registry.experiment(args.test)
+        _refuse_material(experiment, args.material)
         resolutions = (study.parse_resolutions(args.resolutions, experiment)
                        if args.resolutions else list(experiment.default_resolutions))
         material = study.lab_material(args.material)
@@ -80,15 +139,18 @@ def run_lab(args) -> int:
     plot = Path(args.plot) if args.plot else None
     if plot is not None:
         _check_plot_path(plot)
+    check_resolutions(experiment, resolutions, material, solver)
     from ..compile_notice import CompileNotice
 
     live = sys.stderr.isatty()
     with CompileNotice(sys.stderr, live) as notice:
+        progress = _ProgressLine(experiment.name, notice, live)
         try:
-            result = study.run(experiment, resolutions, material,
-                               _ProgressLine(experiment.name, notice, live), solver)
+            result = study.run(experiment, resolutions, material, progress, solver)
         except LabError as e:
             raise UsageError(str(e)) from None
+        finally:  # an error or Ctrl+C is said on a line of its own
+            progress.end()
     if plot is not None:
         plot_convergence(result, plot)
     if args.json:

@@ -3,8 +3,30 @@ clamps and hooks), and a timed run of the simulator on them."""
 
 from __future__ import annotations
 
+import contextlib
 import time
 from typing import Callable
+
+
+class SpecimenBuilt(Exception):
+    """Raised by warmed_simulation within `specimen_only()`: the measure got as far as a
+    scene that validated, where the simulation would start."""
+
+
+_specimen_only = False
+
+
+@contextlib.contextmanager
+def specimen_only():
+    """Within the `with`, a test's measure stops (SpecimenBuilt) once its specimen's scene
+    is built and validated, before any simulation: a cheap check that a resolution can run,
+    made before a study spends minutes on the resolutions below it."""
+    global _specimen_only
+    _specimen_only = True
+    try:
+        yield
+    finally:
+        _specimen_only = False
 
 
 def particles_across(width: float, length: float, segments: int) -> int:
@@ -40,6 +62,8 @@ def warmed_simulation(scene):
     not the test's wall time), started again from t = 0."""
     from ..sim.runner import Simulation
 
+    if _specimen_only:
+        raise SpecimenBuilt
     sim = Simulation(scene)
     sim.advance_frame()
     sim.reset()

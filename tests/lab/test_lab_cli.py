@@ -70,7 +70,11 @@ def test_the_bending_tests_run_from_the_command_line(argv, cases, tmp_path, caps
     (["lab", "drap"], "'drap' is not a lab test; the tests are catenary"),
     (["lab", "catenary", "--resolutions", "8,a"], "'a' is not an integer"),
     (["lab", "catenary", "--resolutions", "1000"], "outside 4–256"),
-    (["lab", "swing", "--material", "felt"], "--material = 'felt' is not a preset"),
+    (["lab", "cantilever", "--material", "felt"], "--material = 'felt' is not a preset"),
+    # the sag and the period are the same for every fabric: naming one would be a pretence
+    (["lab", "catenary", "--material", "denim"], "--material: catenary measures a strip "
+                                                 "without bending stiffness"),
+    (["lab", "swing", "--material", "denim"], "--material is for the tests of a material"),
     (["lab", "catenary", "--plot", "out.jpg"], "the plot is a PNG"),
     (["lab"], "the following arguments are required: test"),
     (["lab", "catenary", "--solver", "hpbd"], "--solver is for the tests of a material"),
@@ -102,3 +106,60 @@ def test_progress_shows_on_a_terminal_only(capsys):
     assert notice.finished == 2  # a compile notice's line is ended before each update
     _ProgressLine("catenary", _Notice(), enabled=False)(0, 2, "x")
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("test, resolutions, runs, why", [
+    ("catenary", "170", "catenary runs N = 4–166", "behavior.substeps = 1020"),
+    ("cantilever", "64", "cantilever runs N = 4–", "behavior.substeps"),
+    ("peirce", "10,256", "peirce runs N = 4–", "behavior.substeps"),
+    ("drape", "256", "drape runs N = 11–", "pins[0].at: 18360 entries"),
+])
+def test_a_resolution_whose_specimen_cannot_be_built_is_refused_before_any_run(
+        test, resolutions, runs, why, capsys, monkeypatch):
+    from cloth_tui.lab import study
+
+    def never(*_args, **_kwargs):
+        raise AssertionError("the study started")
+
+    monkeypatch.setattr(study, "run", never)
+    assert main(["lab", test, "--resolutions", resolutions]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("cloth-tui: error: --resolutions: ")
+    assert runs in err and why in err
+
+
+def test_the_range_it_names_is_the_range_that_builds():
+    from cloth_tui.lab import registry
+    from cloth_tui.lab.cli import check_resolutions
+    from cloth_tui.usage import UsageError
+
+    catenary = registry.experiment("catenary")
+    check_resolutions(catenary, [4, 166], None, None)  # the ends of the range it names
+    with pytest.raises(UsageError):
+        check_resolutions(catenary, [167], None, None)
+
+
+def test_an_error_during_the_runs_starts_a_fresh_line(capsys, monkeypatch):
+    import dataclasses
+    import io
+    import sys
+
+    from cloth_tui.lab import cli, hanging
+    from cloth_tui.lab.study import LabError
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    def diverges(case, n, material, solver):
+        raise LabError(f"the strip diverged at {n} links")
+
+    monkeypatch.setattr(hanging, "CATENARY", dataclasses.replace(hanging.CATENARY,
+                                                                 measure=diverges))
+    monkeypatch.setattr(cli, "check_resolutions", lambda *args: None)
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main(["lab", "catenary", "--resolutions", "8"]) == 2
+    text = terminal.getvalue()
+    assert "lab catenary: 0/1 runs, now" in text  # the progress line was showing
+    assert text.endswith("\x1b[K\ncloth-tui: error: the strip diverged at 8 links\n")
