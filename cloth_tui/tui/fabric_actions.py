@@ -76,8 +76,12 @@ class FabricActions:
         return True
 
     def on_fabric_panel_chosen(self, message: FabricPanel.Chosen) -> None:
-        if message.name != fabric_name(self.scene.material) or (
-                self.scene.material is not None and set(self.scene.material.table) != {"preset"}):
+        """A preset picked in the list: applied, unless it is on already as the preset
+        gives it (with no value of the scene's own to set back)."""
+        section = self.scene.material
+        unchanged = (section is None if message.name == ORIGINAL
+                     else section is not None and section.table == {"preset": message.name})
+        if not unchanged:
             self.choose_fabric(message.name)
 
     def on_fabric_panel_changed(self, message: FabricPanel.Changed) -> None:

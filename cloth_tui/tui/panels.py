@@ -1,6 +1,8 @@
 """The control panels, built from the scene schema's field metadata: one row per scene key
 (setting_field.SettingField). The Scene group also lists the scene's [[objects]]
-(objects_panel.ObjectsPanel) and its [[pins]] (pins_panel.PinsPanel)."""
+(objects_panel.ObjectsPanel) and its [[pins]] (pins_panel.PinsPanel); the Fabric group
+(fabric_panel.FabricPanel) its [material], and while one is on, the rows of the keys it
+replaces say so."""
 
 from __future__ import annotations
 
