@@ -68,6 +68,19 @@ def _size_list(text: str) -> list[int]:
     return sizes
 
 
+def _fabric_size_list(text: str) -> list[int]:
+    """The fabric-cost table's sizes in cells a side, refused before any work unless every
+    grid's clips can hold the same length of edge (bench/fabric_cost.py)."""
+    from .bench.fabric_cost import size_problem
+
+    sizes = [_positive_int(t) for t in text.split(",")]
+    for n in sizes:
+        problem = size_problem(n)
+        if problem:
+            raise argparse.ArgumentTypeError(problem)
+    return sizes
+
+
 def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     app = _Parser(prog="cloth-tui",
                   description="A cloth simulator in your terminal. Without a command, opens the "
@@ -137,6 +150,12 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                         "else 32,64,128,256; --quick: 32,64)")
     p.add_argument("--no-cost", action="store_true",
                    help="skip the cost-of-accuracy table (the default scene to its tolerance)")
+    p.add_argument("--fabric-sizes", type=_fabric_size_list, metavar="N,N,…",
+                   help="cells a side of the fabric-cost table (denim held by two clips; "
+                        "multiples of 16; default 32,64,128,256; --quick: 16,32)")
+    p.add_argument("--no-fabric", action="store_true",
+                   help="skip the fabric-cost table (each solver of a material, to its "
+                        "tolerance)")
 
     p = sub.add_parser("accuracy", help="work-precision study of solvers and integrators")
     p.add_argument("--json", action="store_true")

@@ -17,6 +17,7 @@ import math
 import statistics
 import time
 
+from ..pin_groups import grid_of
 from ..sim.solvers import registry as solver_registry
 
 
@@ -60,13 +61,16 @@ def _passes(sim) -> float:
     return 0.0 if solver is None else solver.passes_per_substep
 
 
-def bench_cost(n: int, overrides: dict, frames: int, repeats: int) -> dict:
-    scene = cost_scene(n, overrides)
+def bench_cost(n: int, overrides: dict, frames: int, repeats: int,
+               scene_for=cost_scene) -> dict:
+    """`frames` frames of `scene_for(n, overrides)`, `repeats` times from a fresh sheet."""
+    scene = scene_for(n, overrides)
     run_once(scene, 1)  # compile or load the kernels, outside the timing
     runs = [run_once(scene, frames) for _ in range(repeats)]
     ms = [1e3 * r["wall_s"] / frames for r in runs]
     substeps = statistics.mean(r["substeps_run"] for r in runs) / frames
-    return {"n": n, "particles": n * n, "frames": frames, "repeats": repeats,
+    return {"n": n, "particles": math.prod(grid_of(scene.cloth)), "frames": frames,
+            "repeats": repeats,
             "substeps_per_frame": substeps,
             "passes_per_substep": runs[0]["passes"],
             "work_per_frame": substeps * runs[0]["passes"],

@@ -11,6 +11,7 @@ import sys
 
 from . import breakdown as bd
 from .accuracy_cost import bench_accuracy_cost, format_cost
+from .fabric_cost import bench_fabric_cost, format_fabric_cost
 from .render_bench import format_rows as format_render_rows
 from .step_bench import bare_scene, bench_frames_per_second, bench_step, busy_core, machine
 
@@ -80,6 +81,8 @@ def run_bench(args) -> int:
     if not args.no_cost:
         result["accuracy_cost"] = bench_accuracy_cost(args.cost_sizes or args.sizes, quick,
                                                        _progress)
+    if not args.no_fabric:
+        result["fabric_cost"] = bench_fabric_cost(args.fabric_sizes, quick, _progress)
     if args.contended:
         with busy_core() as pid:
             result["contended"] = {"busy_pid": pid, **_steps(sizes, quick, "contended")}
@@ -172,6 +175,8 @@ def format_report(r: dict) -> str:
                            r["contended"])
     if "accuracy_cost" in r:
         out += format_cost(r["accuracy_cost"])
+    if "fabric_cost" in r:
+        out += format_fabric_cost(r["fabric_cost"])
     g = r["gravity_cost"]
     out += ["", f"Cost of gravity at n = {g['n']}, one thread: bare step "
                 f"({' + '.join(g['bare_effects'])}) {g['bare_ms']:.3f} ms/step, "

@@ -9,7 +9,7 @@ from cloth_tui.cli import main
 
 def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
     assert main(["bench", "--quick", "--sizes", "6,8", "--no-render", "--contended",
-                 "--json"]) == 0
+                 "--fabric-sizes", "16", "--json"]) == 0
     r = json.loads(capsys.readouterr().out)
     for part in ("quiet", "contended"):
         rows = r[part]["step"]
@@ -39,16 +39,28 @@ def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
             assert row["work_per_frame"] == row["substeps_per_frame"] * row["passes_per_substep"]
             assert isinstance(row["met"], bool) and row["worst_error"] > 0.0
         assert isinstance(solver["exponent"], float) and solver["exponent_64_256"] is None
+    fabric = r["fabric_cost"]
+    from cloth_tui.sim import solvers
+    # every solver that takes a material, the default first, on the clipped denim sheet
+    assert [f["solver"] for f in fabric["solvers"]][0] == solvers.DEFAULT
+    assert {f["solver"] for f in fabric["solvers"]} == set(solvers.names(takes_material=True))
+    for f in fabric["solvers"]:
+        row, = f["rows"]
+        assert row["n"] == 16 and row["particles"] == 17 * 17
+        assert row["ms_min"] <= row["ms_per_frame"] <= row["ms_max"]
+        assert row["substeps_per_frame"] >= 1 and isinstance(row["met"], bool)
     assert r["vectors"]["isa_vector_bits"] in (128, 256, 512)
     assert r["vectors"]["projection_kernel_ops"] is None  # a fresh compile: full runs only
 
 
 def test_bench_text_report_labels_whole_step_and_kernel(capsys):
-    assert main(["bench", "--quick", "--sizes", "5", "--no-render"]) == 0
+    assert main(["bench", "--quick", "--sizes", "5", "--no-render", "--fabric-sizes",
+                 "16"]) == 0
     out = capsys.readouterr().out
     assert "whole step" in out and "kernel alone" in out and "serial numba loop" in out
     assert "simulated frames per wall second" in out and "load average" in out
     assert "Cost of accuracy" in out and "ms per frame" in out
+    assert "Cost of a fabric's accuracy: 1 m of denim held by two clips" in out
     assert "vectors: the CPU offers" in out
 
 
@@ -94,3 +106,17 @@ def test_sizes_no_sheet_can_have_are_refused_before_any_work(capsys, monkeypatch
     assert main(["bench", option, sizes]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "3..512 particles a side" in err and option in err
+
+
+@pytest.mark.parametrize("sizes", ["20", "16,8", "512"])
+def test_fabric_sizes_whose_clips_differ_are_refused_before_any_work(capsys, monkeypatch,
+                                                                     sizes):
+    import cloth_tui.bench.cli
+
+    def never(_args):
+        raise AssertionError("the bench started")
+
+    monkeypatch.setattr(cloth_tui.bench.cli, "run_bench", never)
+    assert main(["bench", "--fabric-sizes", sizes]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "multiple of 16 cells" in err
