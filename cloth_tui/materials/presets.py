@@ -17,12 +17,16 @@ from pathlib import Path
 
 from ..user_values import short_repr
 from .errors import MaterialError
+from .measured import BendingByDirection, StretchCurve
 from .values import number, stretch_pair
 
 PRESET_FILE = "presets.toml"
 NUMBERS = ("areal_density", "stretch", "shear", "bending", "tear_strength")
 ARCSIM = ("arcsim_stretching", "arcsim_bending")
-ROW_KEYS = NUMBERS + ARCSIM + ("source", "note", "estimate", "alias_of")
+# The rest of a measured fabric's samples (measured.py): the five stretching samples at strain
+# 1/6, and the 45° and 90° hinges' stiffness (both or neither); optional.
+ARCSIM_MORE = ("arcsim_stretching_strained", "arcsim_bending_45", "arcsim_bending_90")
+ROW_KEYS = NUMBERS + ARCSIM + ARCSIM_MORE + ("source", "note", "estimate", "alias_of")
 
 # What ARCSim (Narain et al. 2012, with Wang et al. 2011's data-driven model) does with a
 # stored fabric: it doubles each stretching sample C and uses it on the Green strain G as
@@ -50,6 +54,8 @@ class Preset:
     alias_of: str = ""            # the measured row this name stands for, "" for a row
     arcsim_stretching: tuple | None = None  # (C11, C12, C22, C33) as stored, if so given
     arcsim_bending: float | None = None     # k as stored, if so given
+    stretch_curves: tuple[StretchCurve, StretchCurve] | None = None  # (warp, weft)
+    bending_by_direction: BendingByDirection | None = None
 
 
 def from_arcsim(stretching, bending: float, where: str) -> tuple[float, float, float, float]:
@@ -66,6 +72,46 @@ def from_arcsim(stretching, bending: float, where: str) -> tuple[float, float, f
     if isinstance(bending, bool) or not isinstance(bending, (int, float)):
         raise MaterialError(f"{where}: arcsim_bending = {short_repr(bending)} must be a number")
     return warp, weft, shear, number("bending", ARCSIM_BENDING_FACTOR * bending, where)
+
+
+def _is_number(v) -> bool:
+    return not isinstance(v, bool) and isinstance(v, (int, float))
+
+
+def measured_curves(row: dict, warp: float, weft: float,
+                    where: str) -> tuple[StretchCurve, StretchCurve] | None:
+    """(warp, weft) tension curves from the row's strained samples: ARCSim's 0° sample's C11
+    and 90° sample's C22, doubled (measured.py)."""
+    if "arcsim_stretching_strained" not in row:
+        return None
+    rows = row["arcsim_stretching_strained"]
+    if (not isinstance(rows, list) or len(rows) != 5
+            or any(not isinstance(r, list) or len(r) != 4 or not all(map(_is_number, r))
+                   for r in rows)):
+        raise MaterialError(f"{where}: arcsim_stretching_strained = {short_repr(rows)} must be "
+                            "five [C11, C12, C22, C33] (0°, 22.5°, 45°, 67.5°, 90°)")
+    high_warp = number("stretch", ARCSIM_STRETCH_FACTOR * rows[0][0], where)
+    high_weft = number("stretch", ARCSIM_STRETCH_FACTOR * rows[4][2], where)
+    return StretchCurve(warp, high_warp), StretchCurve(weft, high_weft)
+
+
+def measured_bending(row: dict, bending: float, where: str) -> BendingByDirection | None:
+    """The rigidities of folds at 0°, 45° and 90° to the warp (B = k/4 each)."""
+    given = [k for k in ("arcsim_bending_45", "arcsim_bending_90") if k in row]
+    if not given:
+        return None
+    if len(given) == 1:
+        raise MaterialError(f"{where}: give both arcsim_bending_45 and arcsim_bending_90")
+    b45, b90 = (number("bending", ARCSIM_BENDING_FACTOR * row[k], where)
+                if _is_number(row[k]) else None for k in given)
+    if b45 is None or b90 is None:
+        raise MaterialError(f"{where}: arcsim_bending_45 and arcsim_bending_90 must be numbers")
+    found = BendingByDirection(bending, b45, b90)
+    if found.grid_rigidities()[2] <= 0.0:
+        raise MaterialError(f"{where}: a 45° rigidity {b45:.3g} N·m at or below a quarter of "
+                            f"0° and 90° together ({bending:.3g} + {b90:.3g}) has no convex "
+                            "bending energy on the grid")
+    return found
 
 
 def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
@@ -105,9 +151,15 @@ def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
             raise MaterialError(f"{here}: estimate must be true or false")
         if estimate and not row.get("note"):
             raise MaterialError(f"{here}: an estimate must say in `note` how it was made")
+        if not arcsim and any(k in row for k in ARCSIM_MORE):
+            raise MaterialError(f"{here}: {', '.join(ARCSIM_MORE)} need arcsim_stretching "
+                                "and arcsim_bending")
+        curves = directions = None
         if arcsim:
             warp, weft, shear, bending = from_arcsim(row["arcsim_stretching"],
                                                      row["arcsim_bending"], here)
+            curves = measured_curves(row, warp, weft, here)
+            directions = measured_bending(row, bending, here)
         else:
             warp, weft = stretch_pair(row["stretch"], here)
             shear = number("shear", row["shear"], here)
@@ -119,7 +171,8 @@ def parse_presets(text: str, where: str = PRESET_FILE) -> dict[str, Preset]:
             tear_strength=(number("tear_strength", row["tear_strength"], here)
                            if "tear_strength" in row else None),
             arcsim_stretching=tuple(row["arcsim_stretching"]) if arcsim else None,
-            arcsim_bending=row["arcsim_bending"] if arcsim else None)
+            arcsim_bending=row["arcsim_bending"] if arcsim else None,
+            stretch_curves=curves, bending_by_direction=directions)
     for name, target in aliases.items():
         if target not in rows:
             raise MaterialError(f"{where}: [{name}] is alias_of {target!r}, which is not a "

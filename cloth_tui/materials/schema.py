@@ -12,6 +12,11 @@ A material is the fabric in SI units, independent of the grid that discretises i
   exp(−damping·t), whatever the timestep and substeps (0.69/s halves it each second).
 - `tear_strength` (N/m, optional): tension per unit width at which the fabric tears.
 
+A measured preset also brings its stretch that stiffens with strain and its bending by
+direction (measured.py), which `stretch` and `bending` above give at small strain and for a
+fold along the warp; a `stretch` or `bending` typed beside the preset replaces them with the
+linear, isotropic model of that number.
+
 Pure Python: the scene loader will call `material_from_table` and turn a MaterialError into
 its SceneError (this module cannot import scene.py, which will import it).
 """
@@ -24,6 +29,7 @@ from typing import Any
 
 from ..user_values import short_repr
 from .errors import MaterialError
+from .measured import BendingByDirection, StretchCurve
 from .presets import get_preset, preset_names
 from .values import KEYS, number, stretch_pair
 
@@ -41,6 +47,10 @@ class Material:
     damping: float = 0.0           # 1/s
     tear_strength: float | None = None  # N/m
     preset: str = ""               # the preset it started from, "" for none
+    # A measured preset's (warp, weft) tension curves and fold rigidities by direction; None:
+    # the linear stretch and the one bending rigidity above.
+    stretch_curves: tuple[StretchCurve, StretchCurve] | None = None
+    bending_by_direction: BendingByDirection | None = None
 
 
 def material_from_table(table: Any, where: str = "material") -> Material:
@@ -55,6 +65,7 @@ def material_from_table(table: Any, where: str = "material") -> Material:
                             f"{', '.join(ALL_KEYS)}")
     values: dict[str, Any] = {}
     preset_name = ""
+    curves = directions = None
     if "preset" in table:
         preset_name = table["preset"]
         if not isinstance(preset_name, str):
@@ -63,6 +74,8 @@ def material_from_table(table: Any, where: str = "material") -> Material:
         p = get_preset(preset_name, where)
         values = dict(areal_density=p.areal_density, stretch=(p.stretch_warp, p.stretch_weft),
                       shear=p.shear, bending=p.bending, tear_strength=p.tear_strength)
+        curves = None if "stretch" in table else p.stretch_curves
+        directions = None if "bending" in table else p.bending_by_direction
     else:
         missing = [k for k in NEEDED_WITHOUT_PRESET if k not in table]
         if missing:
@@ -80,7 +93,8 @@ def material_from_table(table: Any, where: str = "material") -> Material:
     return Material(areal_density=values["areal_density"], stretch_warp=warp,
                     stretch_weft=weft, shear=values["shear"], bending=values["bending"],
                     damping=values.get("damping", 0.0),
-                    tear_strength=values.get("tear_strength"), preset=preset_name)
+                    tear_strength=values.get("tear_strength"), preset=preset_name,
+                    stretch_curves=curves, bending_by_direction=directions)
 
 
 def bending_length(material: Material, gravity: float = 9.81) -> float:
