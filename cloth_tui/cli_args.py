@@ -163,10 +163,13 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--plot", metavar="OUT.png", help="draw the work-precision diagram")
     _add_dask_args(p)
 
+    from .lab.fit_cli import HELP as LAB_FIT_HELP, add_fit_arguments
     from .lab.registry import TESTS as LAB_TESTS  # names only: the tests load when run
     p = sub.add_parser("lab", help="the virtual textile lab: run a standard test on the "
-                                   "simulator against its computed expectation")
-    p.add_argument("test", help="; ".join(f"{k}: {v[2]}" for k, v in LAB_TESTS.items()))
+                                   "simulator against its computed expectation, or fit a "
+                                   "fabric to measurements")
+    p.add_argument("test", help="; ".join([f"{k}: {v[2]}" for k, v in LAB_TESTS.items()]
+                                          + [LAB_FIT_HELP]))
     p.add_argument("--material", metavar="NAME",
                    help="a preset of the measured-fabric table (its areal density, stretch, "
                         "shear and bending)")
@@ -179,6 +182,7 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="OUT.png",
                    help="draw the error against resolution and against wall time")
+    add_fit_arguments(p)
 
     p = sub.add_parser("wedge", help="run SCENE over every combination of --vary values (on "
                                      "Dask) into a labelled contact sheet and a table")

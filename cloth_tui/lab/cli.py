@@ -126,7 +126,11 @@ def check_resolutions(experiment, resolutions: list[int], material, solver) -> N
 
 def run_lab(args) -> int:
     from . import registry, study
+    from .fit_cli import refuse_fit_flags, run_fit
 
+    if args.test == "fit":
+        return run_fit(args)
+    refuse_fit_flags(args)
     try:
         experiment = registry.experiment(args.test)
         _refuse_material(experiment, args.material)
