@@ -9,7 +9,7 @@ import argparse
 from .usage import UsageError
 
 COMMANDS = ("render", "simulate", "bake", "bench", "accuracy", "lab", "wedge", "serve",
-            "scenes")
+            "scenes", "materials")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -136,6 +136,12 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
 
     p = sub.add_parser("scenes", help="list the built-in scenes")
 
+    p = sub.add_parser("materials", help="list the fabric presets ([material] preset = "
+                                         "\"NAME\") with their values in SI units and their "
+                                         "sources")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI base units, "
+                                                       "each value's unit given)")
+
     p = sub.add_parser("bench", help="performance benchmarks (numbers, not tests)")
     p.add_argument("--json", action="store_true")
     p.add_argument("--quick", action="store_true", help="fewer sizes and repetitions")
@@ -176,9 +182,11 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     p.add_argument("--resolutions", metavar="N,N,…",
                    help="the resolutions to run (what N is depends on the test; default: "
                         "three, coarse to fine)")
+    from .sim.solvers import registry as solvers  # names and traits only: no kernels
+    lab_solvers = solvers.names(takes_material=True, reference_first=True)
     p.add_argument("--solver", metavar="NAME",
-                   help="for the tests of a material (cantilever, peirce, drape): xpbd (the "
-                        "default) or hpbd")
+                   help="for the tests of a material (cantilever, peirce, drape): "
+                        f"{' or '.join(lab_solvers)} (the first is the default)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="OUT.png",
                    help="draw the error against resolution and against wall time")

@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
-import numpy as np
+if TYPE_CHECKING:  # (the spec is read by the schema and --help: it imports no numpy)
+    import numpy as np
 
-if TYPE_CHECKING:
     from ..params import StepParams
     from ..protocols import Effect, ForceEffect
     from ..state import ClothState
