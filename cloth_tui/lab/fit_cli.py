@@ -169,8 +169,12 @@ def run_fit(args) -> int:
         table, notes = fit.closed_form(m)
     except LabError as e:
         raise UsageError(str(e)) from None
-    if scene is not None:
-        _scene_with(scene, table)  # refused now, not after the runs
+    if scene is not None:  # refused now, not after the runs
+        from ..scene import SceneError
+        try:
+            _scene_with(scene, table)
+        except SceneError as e:
+            raise UsageError(f"--scene {args.scene}: {e}") from None
     _check_specimens(fit.material_of(table), m, solver, resolution)
     runs = []
     with CompileNotice(sys.stderr, sys.stderr.isatty()) as notice:

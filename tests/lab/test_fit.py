@@ -133,7 +133,7 @@ def test_lab_fit_writes_a_whole_scene_with_the_fabric(tmp_path, monkeypatch):
     scene = load(out)
     assert scene.scene.object == "sphere"
     assert scene.material.material.bending == pytest.approx(0.18 * G * 0.02 ** 3, rel=1e-5)
-    assert proven == [scene.material.material]  # the proof runs what was written
+    assert proven == [scene.material.material]  # the proof runs the fabric as written
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -151,7 +151,7 @@ def test_lab_fit_writes_a_whole_scene_with_the_fabric(tmp_path, monkeypatch):
     (["--density", "250", "--bending-length", "2", "--scene", "sphere"],
      "--scene: needs -o FILE.toml"),
     (["--density", "250", "--bending-length", "2", "--scene", "tear", "-o", "x.toml"],
-     "needs behavior.solver"),
+     "--scene tear: [material] (custom) needs behavior.solver"),
     (["--density", "250", "--bending-length", "2", "-o", "fabric.json"],
      "unsupported file type"),
     (["--density", "250", "--bending-length", "2", "--material", "felt"], "not a preset"),
