@@ -90,6 +90,27 @@ def write_sheet(out: Path, varies, cells, results, thumb, frames: int, scene_nam
         raise
 
 
+def check_runs(cells, progress: Progress) -> None:
+    """Refuse, before any worker starts, a combination `simulate` would refuse: each cell's
+    Simulation is built here (the sheet, its pins, its colliders, the held particles'
+    checks) and dropped, nothing stepped. The plan checked each scene's keys; what only the
+    simulation's set-up finds (an object enclosing a held particle, say) would otherwise
+    fail on a worker, after the cluster started, as a failed run and exit 1."""
+    from ..scene import SceneError
+    from ..sim.runner import Simulation
+
+    progress.show(0)
+    for done, cell in enumerate(cells, 1):
+        try:
+            Simulation(cell.scene)
+        except SceneError as e:
+            progress.end()
+            shown = ", ".join(f"{k}={value_text(x)}" for k, x in cell.values.items())
+            raise UsageError(f"--vary: the run {shown} is refused: {e}") from None
+        progress.show(done)
+    progress.end()
+
+
 def run_wedge(args) -> int:
     from ..render.cli import default_frames, parse_size
 
@@ -103,6 +124,7 @@ def run_wedge(args) -> int:
         raise UsageError(f"--video: {len(cells)} clips of {frames} frames at {thumb[0]}x"
                          f"{thumb[1]} exceed {VIDEO_MAX_BYTES >> 20} MB held in memory; use "
                          "fewer runs or --frames, or a smaller --size")
+    check_runs(cells, Progress(len(cells), sys.stderr.isatty(), "checking runs"))
     require_dask()
     if not args.scheduler:  # local workers draw with this machine's GL: say now if it has none
         from ..render.probe import RendererUnavailable, require_renderer

@@ -237,3 +237,24 @@ def test_no_more_workers_start_than_there_are_runs():
     assert worker_count(max_workers(), 2) == 2
     assert worker_count(1, 5) == 1
     assert 1 <= worker_count(None, 3) <= 3
+
+
+def test_a_run_simulate_refuses_is_one_line_before_any_worker_starts(tmp_path, capsys,
+                                                                     monkeypatch):
+    # The scene's keys are each valid; only the simulation's set-up finds the sphere
+    # enclosing a held corner once the sheet is lowered into it.
+    import cloth_tui.wedge.cli as wedge_cli
+
+    def no_cluster(*_args, **_kwargs):
+        raise AssertionError("a cluster started")
+
+    monkeypatch.setattr(wedge_cli, "Engine", no_cluster)
+    monkeypatch.setattr(wedge_cli, "require_dask", no_cluster)
+    code = main(["wedge", "sphere", "--set", "cloth.pinned=corners", "--set", "cloth.size=0.2",
+                 "--vary", "cloth.height=0,-0.3", "-o", str(tmp_path / "sheet.png")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith("cloth-tui: error: --vary: the run cloth.height=-0.3 is refused: ")
+    assert "encloses a held particle" in err
+    assert main(["simulate", "sphere", "--set", "cloth.pinned=corners", "--set",
+                 "cloth.size=0.2", "--set", "cloth.height=-0.3"]) == 2  # as simulate says
