@@ -33,6 +33,9 @@ STAGES = {
               "update_velocities")),
     # springs: integrator "auto" is implicit Euler; no constraint stage, no tethers
     "springs": ((["integrate_implicit_euler"], [], "correct_velocities"), None),
+    # lbfgs: xpbd's prediction, then the implicit step solved as a minimisation; no tethers
+    "lbfgs": ((["gravity", "integrate_verlet"], ["solve_implicit_step"], "update_velocities"),
+              (["gravity", "integrate_verlet"], ["solve_implicit_step"], "update_velocities")),
 }
 
 

@@ -5,7 +5,7 @@ names a solver. Adding one: a folder beside these with its SolverSpec, and one l
 
 from __future__ import annotations
 
-from . import hpbd, pbd, springs, xpbd
+from . import hpbd, lbfgs, pbd, springs, xpbd
 from .base import SolverSpec
 
 DEFAULT = "hpbd"  # behavior.solver's default
@@ -76,5 +76,5 @@ class Names:
         return repr(self._names())
 
 
-for _spec in (pbd.SPEC, hpbd.SPEC, xpbd.SPEC, springs.SPEC):
+for _spec in (pbd.SPEC, hpbd.SPEC, xpbd.SPEC, springs.SPEC, lbfgs.SPEC):
     register(_spec)

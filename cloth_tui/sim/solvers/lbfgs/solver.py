@@ -1,0 +1,244 @@
+"""lbfgs: each substep's implicit step, solved as the minimum of its objective
+(step_energy.py) by L-BFGS preconditioned with a prefactored matrix (step_matrix.py).
+
+One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and pins):
+    integrate    the force effects add to state.accel; integrate_verlet predicts
+                 y = x + (1−D)·v·h + a·h² (xpbd's prediction)
+    solve        from x = y, `iterations` L-BFGS steps on Φ(x) = |x − y|²_M/(2h²) + E(x):
+                 d = −H g (two loops over the last HISTORY pairs, H₀ = P⁻¹), x += t·d with t
+                 halved until Φ falls enough (Armijo); each edge's λ then holds its force
+    velocities   update_velocities: v ← (x − x_prev)/h
+Its minimum is implicit Euler's step on the material's own energy, so the sheet settles where
+the fabric's equilibrium is at any iteration count (a step that stops early stops at a lower
+Φ on the way there: it slows the motion, it does not move the rest state). What stopping
+early costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
+measures both on an undamped sheet).
+
+The frame's accuracy is set by `iterations` and the substeps: the spec says it leaves no
+solve error for the accuracy control (λ here is the solved step's force, so xpbd's error
+|C + α̃λ| would read zero whatever the solve); `imbalance` is the measure to bound instead.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...params import StepParams
+from ...protocols import Effect, ForceEffect
+from ..base import SolverBase
+from ..xpbd.verlet import IntegrateVerlet, UpdateVelocities
+from .step_energy import (
+    dot,
+    edge_multipliers,
+    first_loop,
+    second_loop,
+    step_objective,
+    step_to,
+)
+from .step_matrix import factor, step_matrix
+
+HISTORY = 5        # L-BFGS pairs kept: more buys little once P carries the low frequencies
+ARMIJO = 1e-4      # sufficient decrease of a line search step
+HALVINGS = 8       # a step halved this often without enough decrease ends the substep's solve
+REFACTOR_AFTER_TEAR = 30  # substeps between refactorings while the sheet tears
+
+
+class SolveImplicitStep:
+    """The solve stage (module docstring). `lambdas` (N·s², model.edges order) are each
+    edge's force of the solved step as an XPBD multiplier, for tearing by strength."""
+
+    name = "solve_implicit_step"
+
+    def __init__(self, model, iterations: int, compliance: float, theta: float = 1.0):
+        self.iterations = iterations
+        self.theta = theta
+        self._h = None
+        self._lu = None
+        self.lambdas = np.zeros(model.num_constraints)
+        self.set_model(model, compliance)
+
+    def set_model(self, model, compliance: float) -> None:
+        """Take `model`'s masses and material (or, without one, α = `compliance` on every
+        edge); the factor is made anew at the next substep."""
+        self.model = model
+        f = model.fabric
+        n = model.num_particles
+        if f is not None:
+            self.k_edge = np.ascontiguousarray(1.0 / np.asarray(f.compliance, dtype=float))
+            self.cells = f.cells
+            self.k_cell = 1.0 / f.cell_compliance if f.num_cells else 0.0
+            self.scale = 1.0 / (4 * f.grid.dx * f.grid.dz)
+            self.cell_edges = f.cell_edges
+        else:
+            self.k_edge = np.full(model.num_constraints, 1.0 / max(compliance, 1e-12))
+            self.cells = np.zeros((0, 4), np.int64)
+            self.k_cell, self.scale = 0.0, 0.0
+            self.cell_edges = np.zeros((0, 4), np.int64)
+        if f is not None and f.stencils is not None:
+            self.sten_p, self.sten_c = f.stencils.particles, f.stencils.coeffs
+            self.k_sten = np.ascontiguousarray(1.0 / np.asarray(f.stencil_compliance))
+            self.sten_edges = f.stencil_edges
+        else:
+            self.sten_p, self.sten_c = np.zeros((0, 4), np.int64), np.zeros((0, 4))
+            self.k_sten = np.zeros(0)
+            self.sten_edges = np.zeros((0, 4), np.int64)
+        self.cell_alive = np.ones(len(self.cells), np.uint8)
+        self.sten_alive = np.ones(len(self.k_sten), np.uint8)
+        self.fixed = (model.inv_mass == 0).astype(np.uint8)
+        self._y = np.zeros((n, 3))
+        self._g = np.zeros((n, 3))
+        self._g_new = np.zeros((n, 3))
+        self._trial = np.zeros((n, 3))
+        self._s = np.zeros((HISTORY, n, 3))
+        self._yh = np.zeros((HISTORY, n, 3))
+        self._sv = np.zeros((n, 3))
+        self._yv = np.zeros((n, 3))
+        self._rho = np.zeros(HISTORY)
+        self._alphas = np.zeros(HISTORY)
+        self._h = None  # refactor
+        self._torn_factored = 0
+        self._since_factor = 0
+
+    def _prepare(self, state, h: float) -> None:
+        m = self.model
+        held_now = (m.inv_mass == 0).astype(np.uint8)
+        torn_changed = state.torn != self._torn_factored
+        if torn_changed:
+            self._mask_torn(state.alive)
+        stale = (self._h != h or not np.array_equal(held_now, self.fixed)
+                 or (torn_changed and self._since_factor >= REFACTOR_AFTER_TEAR))
+        self._since_factor += 1
+        if not stale:
+            return
+        self.fixed = held_now
+        self._h = h
+        self.mass_h2 = np.ascontiguousarray(m.mass / (h * h))
+        self._lu = factor(step_matrix(m, self.k_edge * state.alive, self.k_sten, h, self.theta))
+        self._torn_factored = state.torn
+        self._since_factor = 0
+
+    def _mask_torn(self, alive: np.ndarray) -> None:
+        """A cell or stencil across a torn edge leaves the energy with it."""
+        intact = np.append(alive, 1).astype(bool)  # index −1 (no such edge) reads intact
+        if len(self.cell_edges):
+            self.cell_alive[:] = intact[self.cell_edges].all(axis=1)
+        if len(self.sten_edges):
+            self.sten_alive[:] = intact[self.sten_edges].all(axis=1)
+
+    def objective(self, x, y, alive, grad, want_grad: bool, theta: float) -> float:
+        m = self.model
+        return step_objective(x, y, self.mass_h2, m.inv_mass, m.edges, m.rest_length,
+                              self.k_edge, alive, self.cells, self.cell_alive, self.k_cell,
+                              self.scale, self.sten_p, self.sten_c, self.k_sten,
+                              self.sten_alive, theta, grad, want_grad)
+
+    def elastic_energy(self, x, alive) -> float:
+        """J: E(x), the material's energy at x (no inertia term: y = x)."""
+        if self._h is None:
+            return 0.0
+        return self.objective(x, x, alive, self._g_new, False, 1.0)
+
+    def apply(self, state, h):
+        self._prepare(state, h)
+        x, y, alive = state.x, self._y, state.alive
+        y[...] = x
+        if self.theta < 1.0:
+            # θ-scheme: M(x⁺ − 2x + x⁻)/h² = −θ∇E(x⁺) − (1 − θ)∇E(x⁻) + f
+            before = state.x_prev - h * state.v
+            self.objective(before, before, alive, self._g_new, True, 1.0)
+            y -= (1.0 - self.theta) * self._g_new / self.mass_h2[:, None]
+        g, g_new, trial = self._g, self._g_new, self._trial
+        phi = self.objective(x, y, alive, g, True, self.theta)
+        count = 0
+        order = np.zeros(HISTORY, np.int64)
+        for _ in range(self.iterations):
+            q = g.copy()
+            first_loop(q, self._s, self._yh, self._rho, order, count, self._alphas)
+            d = self._lu.solve(q)
+            second_loop(d, self._s, self._yh, self._rho, order, count, self._alphas,
+                        self.fixed)
+            slope = dot(g, d)
+            if not slope < 0.0:  # not a descent direction (or NaN): restart from P⁻¹ alone
+                count = 0
+                d = -self._lu.solve(g)
+                d[self.fixed.astype(bool)] = 0.0
+                slope = dot(g, d)
+                if not slope < 0.0:
+                    break
+            t = 1.0
+            for _ls in range(HALVINGS):
+                step_to(x, d, t, trial)
+                phi_new = self.objective(trial, y, alive, g_new, True, self.theta)
+                if phi_new <= phi + ARMIJO * t * slope:
+                    break
+                t *= 0.5
+            else:
+                break
+            np.subtract(trial, x, out=self._sv)
+            np.subtract(g_new, g, out=self._yv)
+            sy = dot(self._sv, self._yv)
+            if sy > 0.0:  # curvature seen: keep the pair (else the history stays as it is)
+                if count < HISTORY:
+                    slot = count
+                    count += 1
+                else:
+                    slot = order[0]
+                    order[:-1] = order[1:]
+                order[count - 1] = slot
+                self._s[slot] = self._sv
+                self._yh[slot] = self._yv
+                self._rho[slot] = 1.0 / sy
+            x[...] = trial
+            g, g_new = g_new, g
+            phi = phi_new
+        self._g, self._g_new = g, g_new
+        m = self.model
+        edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, h * h, self.lambdas)
+
+    def imbalance(self) -> float:
+        """m: the largest move the last step's remaining gradient asks of a particle at its
+        inertia, |∇Φ_i|·h²/m_i: how far the solve stopped from the step's minimum."""
+        if self._h is None:
+            return 0.0
+        return float((np.linalg.norm(self._g, axis=1) / self.mass_h2).max())
+
+
+class LBFGSSolver(SolverBase):
+    name = "lbfgs"
+
+    def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
+                 params: StepParams):
+        super().__init__(model, behavior, forces, h, params)
+        self._integrate: list[Effect] = list(forces) + [IntegrateVerlet(model, params)]
+        self.projection = SolveImplicitStep(model, params.iterations, params.compliance)
+        self._constraints: list[Effect] = [self.projection]
+        self._velocities = UpdateVelocities(model, params)
+
+    def retune(self, params: StepParams, model) -> None:
+        self.model = model
+        self.projection.iterations = params.iterations
+        self.projection.set_model(model, params.compliance)
+
+    def integrate(self) -> list[Effect]:
+        return self._integrate
+
+    def constraints(self) -> list[Effect]:
+        return self._constraints
+
+    def velocities(self) -> Effect:
+        return self._velocities
+
+    @property
+    def passes_per_substep(self) -> float:
+        return float(self.projection.iterations)
+
+    @property
+    def lambdas(self) -> np.ndarray:
+        return self.projection.lambdas
+
+    @property
+    def alpha_tilde(self):
+        return 1.0 / (self.projection.k_edge * self.h * self.h)
+
+    def elastic_energy(self, state) -> float:
+        return self.projection.elastic_energy(state.x, state.alive)

@@ -1,0 +1,63 @@
+"""The constant matrix P = M/h² + θ·(Σ_edges k_e A_eᵀA_e + Σ_cells w_c (diagonals) + Q_B), one
+N×N matrix for x, y and z alike, factored once per substep length and pin set.
+
+It is the Hessian of the step's objective (step_energy.py) with every edge held at its rest
+length and no geometric stiffness: exact for the bending energy (linear stencils: Q_B is its
+Hessian), the stretch and shear as springs along their lines. L-BFGS
+starts each step from P⁻¹ and learns what it misses (the sheet's turning) from its
+gradients. A held particle's row and column are the identity, so it never moves.
+
+Factored by SciPy's SuperLU with a minimum-degree ordering of AᵀA + A: on a grid its fill
+grows as N log N, and so does a solve."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def shear_weight(fabric) -> float:
+    """N/m: a shear cell's energy k_c γ²/2 on each of its diagonals as a spring, the
+    Gauss-Newton weight k_c |∂γ/∂d|² = k_c (2·scale·|d|)² at rest."""
+    g = fabric.grid
+    scale = 1.0 / (4 * g.dx * g.dz)
+    return 4 * scale * scale * (g.dx * g.dx + g.dz * g.dz) / fabric.cell_compliance
+
+
+def step_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float, theta: float):
+    """P as a SciPy CSC matrix (module docstring), for `model`'s held particles now;
+    `k_stencil` = 1/α_s per bending stencil (its rigidity × weight, by direction)."""
+    import scipy.sparse as sp
+
+    n = model.num_particles
+    e = model.edges
+    rows = [e[:, 0], e[:, 1], e[:, 0], e[:, 1]]
+    cols = [e[:, 1], e[:, 0], e[:, 0], e[:, 1]]
+    vals = [-k_edge, -k_edge, k_edge, k_edge]
+    f = model.fabric
+    if f is not None and f.num_cells:
+        w = np.full(f.num_cells, shear_weight(f))
+        for a, b in ((f.cells[:, 0], f.cells[:, 3]), (f.cells[:, 1], f.cells[:, 2])):
+            rows += [a, b, a, b]
+            cols += [b, a, a, b]
+            vals += [-w, -w, w, w]
+    if f is not None and f.stencils is not None:  # Q_B = Σ_s k_s D_sᵀD_s, exactly
+        p, c = f.stencils.particles, f.stencils.coeffs
+        rows.append(np.repeat(p, 4, axis=1).ravel())
+        cols.append(np.tile(p, (1, 4)).ravel())
+        vals.append((k_stencil[:, None, None] * c[:, :, None] * c[:, None, :]).ravel())
+    r = np.concatenate(rows)
+    c = np.concatenate(cols)
+    v = theta * np.concatenate(vals)
+    free = model.inv_mass > 0
+    keep = free[r] & free[c]
+    diag = np.where(free, model.mass / (h * h), 1.0)
+    everyone = np.arange(n)
+    return sp.coo_matrix((np.concatenate([v[keep], diag]),
+                          (np.concatenate([r[keep], everyone]),
+                           np.concatenate([c[keep], everyone]))), shape=(n, n)).tocsc()
+
+
+def factor(matrix):
+    """A solver for P: `.solve(b)` with b (N, 3)."""
+    from scipy.sparse.linalg import splu
+    return splu(matrix, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
