@@ -14,6 +14,7 @@ from textual.widgets import Input, Label, OptionList
 from textual.widgets.option_list import Option
 
 from ..materials.catalogue import PresetRow, preset_rows
+from ..materials.schema import Material
 from ..materials.section import ORIGINAL, MaterialSection
 from .fabric_values import (SHOWN, SPECS, InShownRange, dotted, edited_keys, edited_table,
                             shown_value)
@@ -41,6 +42,26 @@ def fabric_title(section: MaterialSection | None) -> str:
     return f"[b]fabric:[/] {section.name}{edited}"
 
 
+def measured_note(material: Material) -> str:
+    """What a measured preset has beyond the values shown (materials/measured.py): stretch
+    that stiffens with strain, bending by direction; "" for a linear fabric."""
+    parts, shown = [], []
+    if material.stretch_curves is not None:
+        warp, weft = material.stretch_curves
+        parts.append(f"stretch stiffens with strain (warp {warp.low:.3g} → {warp.high:.3g}, "
+                     f"weft {weft.low:.4g} → {weft.high:.4g} N/m by {100 * warp.reach:.0f} %)")
+        shown.append("small-strain stretch")
+    if material.bending_by_direction is not None:
+        b = material.bending_by_direction
+        parts.append(f"bending by fold 0°/45°/90°: {1e6 * b.fold_0:.3g} / {1e6 * b.fold_45:.3g}"
+                     f" / {1e6 * b.fold_90:.3g} µN·m")
+        shown.append("0° bending")
+    if not parts:
+        return ""
+    return (f"[dim]measured: {'; '.join(parts)}. Below: {', '.join(shown)}; typing one "
+            "makes it linear.[/]")
+
+
 class FabricPanel(Vertical):
     """Pick a fabric from the list (↑ ↓ Enter, or a click) and edit its values."""
 
@@ -50,6 +71,7 @@ class FabricPanel(Vertical):
     FabricPanel #fabric-presets { height: 12; margin-bottom: 1; padding: 0; }
     FabricPanel.-original #fabric-values { display: none; }
     FabricPanel #fabric-values { height: auto; }
+    FabricPanel #fabric-measured { width: 1fr; height: auto; margin-bottom: 1; }
     """
 
     class Chosen(Message):
@@ -83,6 +105,7 @@ class FabricPanel(Vertical):
         options += [Option(preset_prompt(row), id=row.name) for row in self._rows]
         yield OptionList(*options, id=LIST_ID)
         with Vertical(id="fabric-values"):
+            yield Label("", id="fabric-measured")
             for name in SHOWN:
                 value = shown_value(self._section.material, name) if self._section else 0.0
                 yield SettingField(dotted(name), value, spec=SPECS[name])
@@ -104,6 +127,9 @@ class FabricPanel(Vertical):
             presets.highlighted = presets.get_option_index(name)
         if section is None:
             return
+        note = self.query_one("#fabric-measured", Label)
+        note.update(measured_note(section.material))
+        note.display = bool(measured_note(section.material))
         for field in self.query(SettingField):
             field.show(shown_value(section.material, field.dotted.split(".", 1)[1]))
 

@@ -199,3 +199,27 @@ def test_the_status_line_names_the_fabric_without_an_error_tolerance_too():
     r.on_snapshot(1, RunStats(material="denim", frame_ms=3.0))
     _, cost = r.text(paused=False, recording=False, iterations=4, substeps=4)
     assert cost.startswith("denim · cost")
+
+
+def test_a_measured_presets_stiffening_and_directions_are_told_and_typing_makes_it_linear(
+        tmp_path):
+    async def go():
+        app = make_app(tmp_path, Scene().with_value("material.preset", "denim"))
+        async with app.run_test(size=SIZE) as pilot:
+            note = app.query_one("#fabric-measured")
+            assert note.display
+            text = str(note.content)
+            assert "stiffens with strain (warp 411 → " in text and "0°/45°/90°" in text
+            field = app.query_one("#" + widget_id("fabric.stretch_warp"), Input)
+            field.focus()
+            field.value = "300"
+            await pilot.press("enter")
+            await until(pilot, lambda: app.scene.material.material.stretch_curves is None,
+                        what="a typed stretch: linear")
+            assert app.scene.material.table["stretch"] == [300.0, 2027.77258]
+            text = str(app.query_one("#fabric-measured").content)
+            assert "stiffens" not in text and "0°/45°/90°" in text
+            app.choose_fabric("cotton")  # an estimate: linear, nothing more to tell
+            await pilot.pause(0.1)
+            assert not app.query_one("#fabric-measured").display
+    run(go())
