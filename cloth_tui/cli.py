@@ -24,6 +24,11 @@ def cmd_scenes(args) -> int:
     return 0
 
 
+def cmd_materials(args) -> int:
+    from .materials.cli import run_materials
+    return run_materials(args)
+
+
 def cmd_simulate(args) -> int:
     import json
     from pathlib import Path
@@ -211,7 +216,7 @@ def _exit_on_interrupt(say_it: bool) -> None:
 
 # The commands whose result is what they print: with stdout closed they are refused before
 # any work. (render and bake write files; serve and the app print nothing that matters.)
-PRINTING_COMMANDS = ("simulate", "scenes", "bench", "accuracy", "lab", "wedge")
+PRINTING_COMMANDS = ("simulate", "scenes", "materials", "bench", "accuracy", "lab", "wedge")
 
 
 def _run(argv: list[str]) -> int:

@@ -136,9 +136,9 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
 
     p = sub.add_parser("scenes", help="list the built-in scenes")
 
-    p = sub.add_parser("materials", help="list the fabric presets ([material] preset = "
-                                         "\"NAME\") with their values in SI units and their "
-                                         "sources")
+    about = ("list the fabric presets ([material] preset = \"NAME\") with their values in SI "
+             "units and their sources")
+    p = sub.add_parser("materials", help=about, description=about[0].upper() + about[1:] + ".")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI base units, "
                                                        "each value's unit given)")
 
