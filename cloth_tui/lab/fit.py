@@ -146,7 +146,8 @@ def closed_form(m: Measurements) -> tuple[dict, list[str]]:
                      f"bending is the overall √(B_warp·B_weft) (ASTM D1388), bending length "
                      f"√(c_warp·c_weft) = {c * 100:.4g} cm")
     if m.stretch is None:
-        notes.append(f"stretch not measured: {m.base}'s (give --extension)")
+        notes.append(f"stretch not measured: {m.base}'s at small strain, linear (give "
+                     f"--extension)")
     if m.drape is None:
         notes.append(f"shear not measured: {m.base}'s (give --drape to fit it)")
     try:
