@@ -33,8 +33,9 @@ DRAPE_TOLERANCE = 0.03      # the proof's bound on the drape coefficient, absolu
 # written, its numbers rounded) has room to spare.
 DRAPE_AIM = 0.01
 DRAPE_MAX_RUNS = 8
-# Shear (N/m) the search may choose: below, the disc has no in-plane stiffness left to
-# fold against; above the stretch it would be stiffer in shear than in tension.
+# Shear (N/m) the search may choose: from SHEAR_MIN, where a mid-weight disc already drapes
+# to about a quarter (docs/lab.md), to the smaller stretch: a fabric stiffer in shear than in
+# tension is none a drapemeter sees.
 SHEAR_MIN = 0.05
 DIGITS = 6                  # significant digits written
 
