@@ -193,3 +193,20 @@ def test_lab_fit_with_a_drape_coefficient_drapes_as_measured(tmp_path, capsys):
     assert load(out).material.material.shear == r["material"]["shear"]
     assert r["material"]["shear"] != r["drape_runs"][0]["shear"]  # the search moved it
     assert "lab fit: drape run 1" in captured.err
+
+
+def test_a_drape_the_fabric_cannot_reach_is_written_reported_and_exits_1(tmp_path, capsys,
+                                                                          monkeypatch):
+    _fake_drape(monkeypatch, _smooth)
+    monkeypatch.setattr(fit, "peirce_bending_length", lambda material, solver: {
+        "overhang": 0.048, "bending_length": 0.024, "runs": 3, "wall_s": 0.0})
+    out = tmp_path / "fabric.toml"
+    assert main(["lab", "fit", "--density", "250", "--bending-length", "2.4", "--drape",
+                 "0.9", "-o", str(out)]) == 1
+    captured = capsys.readouterr()
+    drape_line = next(s for s in captured.out.splitlines() if "drape test" in s)
+    assert drape_line.startswith("  drape test (25 particles across)") and ": NO" in drape_line
+    assert captured.err.splitlines()[-1] == ("cloth-tui: lab fit: the fitted fabric does not "
+                                             "pass its proof (see the report)")
+    # written all the same, with the nearest: the range's top, denim's smaller stretch
+    assert load(out).material.material.shear == pytest.approx(410.704, rel=1e-5)
