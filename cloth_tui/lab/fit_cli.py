@@ -219,18 +219,19 @@ def format_fit(r: dict, section: str | None) -> str:
 
     mat, p = r["material"], r["proof"]
     out = ["Textile lab · fit: a fabric from measurements.",
-           f"Material: {mat['areal_density'] * 1e3:g} g/m², stretch {mat['stretch'][0]:.4g} / "
-           f"{mat['stretch'][1]:.4g} N/m, shear {mat['shear']:.4g} N/m, bending "
-           f"{mat['bending'] * 1e6:.4g} µN·m."]
+           (f"Material: {mat['areal_density'] * 1e3:g} g/m², stretch {mat['stretch'][0]:.4g} / "
+            f"{mat['stretch'][1]:.4g} N/m, shear {mat['shear']:.4g} N/m, bending "
+            f"{mat['bending'] * 1e6:.4g} µN·m.")]
     out += [f"Note: {n}." for n in r["notes"]]
     if section is not None:
         out += ["", section.rstrip()]
     pe = p["peirce"]
     out += ["", f"Proof ({r['solver']}), the lab's tests on the fabric as written:",
-            f"  virtual Peirce test ({fit.PEIRCE_LINKS} links): overhang "
-            f"{pe['overhang'] * 100:.4g} cm, bending length {pe['bending_length'] * 100:.4g} cm "
-            f"against {pe['expected'] * 100:.4g} cm: {pe['error']:+.2%}, within "
-            f"{pe['tolerance']:.0%}: {'yes' if pe['ok'] else 'NO'}"]
+            (f"  virtual Peirce test ({fit.PEIRCE_LINKS} links): overhang "
+             f"{pe['overhang'] * 100:.4g} cm, bending length "
+             f"{pe['bending_length'] * 100:.4g} cm against {pe['expected'] * 100:.4g} cm: "
+             f"{pe['error']:+.2%}, within {pe['tolerance']:.0%}: "
+             f"{'yes' if pe['ok'] else 'NO'}")]
     if len(pe["directions"]) == 2:
         for d in pe["directions"]:
             out.append(f"    measured {d['direction']} {d['measured'] * 100:g} cm: "

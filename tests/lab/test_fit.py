@@ -83,7 +83,7 @@ def test_the_drape_search_reaches_its_aim_in_a_few_runs(aim, monkeypatch):
 
 
 def test_a_drape_beyond_reach_stops_at_the_end_of_the_range_with_the_nearest(monkeypatch):
-    calls = _fake_drape(monkeypatch, _smooth)
+    _fake_drape(monkeypatch, _smooth)
     table = {"areal_density": 0.25, "stretch": [300.0, 500.0], "shear": 26.7,
              "bending": 2e-5}
     fitted, runs = fit.fit_drape(table, 0.95, 25, "xpbd", lambda _: None)
@@ -142,8 +142,8 @@ def test_lab_fit_writes_a_whole_scene_with_the_fabric(tmp_path, monkeypatch):
     (["--density", "heavy", "--bending-length", "2"], "--density: 'heavy' is not"),
     (["--density", "250", "--bending-length", "2", "--extension", "5 %"],
      "--extension: '5 %' is not an extension at a load"),
-    (["--density", "250", "--bending-length", "2", "--drape", "2"], "--drape: '2' is not "
-                                                                    "below 1"),
+    (["--density", "250", "--bending-length", "2", "--drape", "2"],
+     "--drape: '2' is not below 1"),
     (["--density", "250", "--bending-length", "2", "--drape-resolution", "25"],
      "--drape-resolution: is for --drape"),
     (["--density", "250", "--bending-length", "2", "--drape", "0.4", "--drape-resolution",
