@@ -120,3 +120,33 @@ def bending_compliance(stencils: Stencils, rigidity: float) -> np.ndarray:
     if not rigidity > 0:
         raise ValueError(f"bending constraints need a positive rigidity, got {rigidity}")
     return 1.0 / np.maximum(rigidity * stencils.weights, MIN_STIFFNESS)
+
+
+UU, VV, UV = 0, 1, 2  # a stencil's kind: x_uu (curvature along x), x_vv (along z), x_uv
+
+
+def stencil_kinds(stencils: Stencils) -> np.ndarray:
+    """(S,) int8: UU, VV or UV per stencil (x_uu's middle particle is its first's right
+    neighbour; x_vv's is a row further; x_uv has four non-zero coefficients)."""
+    p = stencils.particles
+    kind = np.where(p[:, 1] - p[:, 0] == 1, UU, VV).astype(np.int8)
+    kind[stencils.coeffs[:, 3] != 0.0] = UV
+    return kind
+
+
+def stencil_rigidities(stencils: Stencils, rigidity: float, directions=None) -> np.ndarray:
+    """(S,) N·m per stencil: `rigidity` for all, or with `directions`
+    (materials.measured.BendingByDirection) the rigidity of its kind, so that folds at 0°,
+    45° and 90° to the warp have the three measured rigidities (docs/physics.md, "Measured
+    fabrics: stiffening and direction")."""
+    if directions is None:
+        return np.full(len(stencils.weights), float(rigidity))
+    return np.asarray(directions.grid_rigidities())[stencil_kinds(stencils)]
+
+
+def directional_bending_compliance(stencils: Stencils, rigidities: np.ndarray) -> np.ndarray:
+    """(S,) per stencil: α_s = 1/(B_s·w_s) with a rigidity of its own (stencil_rigidities),
+    as bending_compliance with one."""
+    if not (np.asarray(rigidities) > 0).all():
+        raise ValueError("bending constraints need positive rigidities")
+    return 1.0 / np.maximum(rigidities * stencils.weights, MIN_STIFFNESS)

@@ -5,8 +5,12 @@ structural edges alone, each with its own XPBD compliance α = 1/k from the fabr
 and the strip of sheet the edge stands for (material.pair_compliance); shear is one
 constraint per cell (material.cell_shear_strain, α = 1/(G·dx·dz)); bending is the grid
 bending energy's stencils (bending.py), each a vector constraint C_s = D_s·x of compliance
-1/(B·w_s); masses are the areal density × each particle's dual cell. xpbd/fabric_constraints.py
-projects the cells and stencils; docs/physics.md ("Materials in SI units") derives it all.
+1/(B·w_s); masses are the areal density × each particle's dual cell. A measured preset's
+stretch stiffens with strain (stretch_curve.py: `stretch`, from which the solver makes each
+edge's α anew every substep) and its stencils' B differ by kind, so that folds along the
+warp, the bias and the weft have the measured rigidities (bending.stencil_rigidities).
+xpbd/fabric_constraints.py projects the cells and stencils; docs/physics.md ("Materials in
+SI units", "Measured fabrics: stiffening and direction") derives it all.
 """
 
 from __future__ import annotations
@@ -16,9 +20,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..materials.schema import Material
-from .bending import Stencils, bending_compliance, bending_stencils
+from .bending import (Stencils, bending_stencils, directional_bending_compliance,
+                      stencil_rigidities)
 from .material import (Grid, cell_corners, cell_shear_compliance, lumped_masses,
                        pair_compliance)
+from .stretch_curve import EdgeStretch, edge_stretch
 
 
 @dataclass(frozen=True)
@@ -32,6 +38,7 @@ class Fabric:
     stencil_compliance: np.ndarray  # (S,) 1/N per stencil (none: (0,))
     cell_edges: np.ndarray          # (C, 4) the structural constraints around each cell, −1 none
     stencil_edges: np.ndarray       # (S, 4) structural constraints a stencil spans, −1 none
+    stretch: EdgeStretch | None = None  # tension curves per edge; None: linear (compliance)
 
     @property
     def num_cells(self) -> int:
@@ -40,6 +47,20 @@ class Fabric:
     @property
     def num_stencils(self) -> int:
         return 0 if self.stencils is None else len(self.stencils.weights)
+
+    @property
+    def stencil_rigidity(self) -> np.ndarray:
+        """(S,) N·m: each stencil's bending rigidity, 1/(α_s·w_s)."""
+        if self.stencils is None:
+            return np.zeros(0)
+        return 1.0 / (self.stencil_compliance * self.stencils.weights)
+
+
+def _stencil_compliance(stencils: Stencils | None, material: Material) -> np.ndarray:
+    if stencils is None:
+        return np.zeros(0)
+    return directional_bending_compliance(
+        stencils, stencil_rigidities(stencils, material.bending, material.bending_by_direction))
 
 
 def fabric_masses(material: Material, grid: Grid) -> np.ndarray:
@@ -55,8 +76,7 @@ def build_fabric(material: Material, grid: Grid, edges: np.ndarray, shear: bool,
     compliance = pair_compliance(material, grid, edges, shear="cells")
     cells = cell_corners(grid) if shear else np.zeros((0, 4), np.int64)
     stencils = bending_stencils(grid) if bending and material.bending > 0 else None
-    stencil_alpha = (bending_compliance(stencils, material.bending) if stencils is not None
-                     else np.zeros(0))
+    stencil_alpha = _stencil_compliance(stencils, material)
     edge_of = _edge_lookup(edges, grid.num_particles)
     cell_edges = np.stack([edge_of(cells[:, 0], cells[:, 1]), edge_of(cells[:, 2], cells[:, 3]),
                            edge_of(cells[:, 0], cells[:, 2]), edge_of(cells[:, 1], cells[:, 3])],
@@ -68,7 +88,7 @@ def build_fabric(material: Material, grid: Grid, edges: np.ndarray, shear: bool,
     return Fabric(material=material, grid=grid, compliance=compliance, cells=cells,
                   cell_compliance=cell_shear_compliance(material, grid), stencils=stencils,
                   stencil_compliance=stencil_alpha, cell_edges=cell_edges,
-                  stencil_edges=stencil_edges)
+                  stencil_edges=stencil_edges, stretch=edge_stretch(material, grid, edges))
 
 
 def refit_fabric(fabric: Fabric, material: Material, edges: np.ndarray) -> Fabric:
@@ -76,13 +96,14 @@ def refit_fabric(fabric: Fabric, material: Material, edges: np.ndarray) -> Fabri
     that leaves the constraints as they are (bending rigidity still above zero, or still
     none), whose α per constraint are made anew."""
     compliance = pair_compliance(material, fabric.grid, edges, shear="cells")
-    stencil_alpha = (bending_compliance(fabric.stencils, material.bending)
+    stencil_alpha = (_stencil_compliance(fabric.stencils, material)
                      if fabric.stencils is not None else fabric.stencil_compliance)
     for arr in (compliance, stencil_alpha):
         arr.setflags(write=False)
     return replace(fabric, material=material, compliance=compliance,
                    cell_compliance=cell_shear_compliance(material, fabric.grid),
-                   stencil_compliance=stencil_alpha)
+                   stencil_compliance=stencil_alpha,
+                   stretch=edge_stretch(material, fabric.grid, edges))
 
 
 def _edge_lookup(edges: np.ndarray, particles: int):

@@ -149,14 +149,15 @@ def without_friction(objects: list) -> list:
 
 def _material_part(scene: Scene) -> MaterialSection | None:
     """What of the scene's material decides its step. Its numbers are α per constraint and
-    masses (model.refitted); which constraints there are depends only on whether it has a
-    bending rigidity. Tearing by strength is built from the strength and the stretch (its
-    stage, the substeps' tolerance), so there every number is part of the structure."""
+    masses (model.refitted), a measured preset's tension curves and fold rigidities too;
+    which constraints there are depends only on whether it has a bending rigidity. Tearing
+    by strength is built from the strength and the stretch (its stage, the substeps'
+    tolerance), so there every number is part of the structure."""
     section = scene.material
     if section is None or (scene.behavior.tear and section.material.tear_strength is not None):
         return section
     m = section.material
     numbers = dataclasses.replace(m, areal_density=0.0, stretch_warp=0.0, stretch_weft=0.0,
                                   shear=0.0, bending=float(m.bending > 0), damping=0.0,
-                                  preset="")
+                                  preset="", stretch_curves=None, bending_by_direction=None)
     return dataclasses.replace(section, table={}, material=numbers)

@@ -21,6 +21,9 @@ where their partial correction balances the load, softer than the material the m
 bending per step, h²·B/(ρ_A·dx⁴), outweighs its masses (docs/physics.md, "Warm-started
 bending"). The stiff stretch is not warm-started: carried over its unconverged passes, the
 last substep's corrections along turned edges diverge.
+
+A measured fabric's edges stiffen with strain: before the passes each edge takes the secant
+α of its strain now (stretch_curve.py), so a held stretch pulls with the measured tension.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...jit import kernel
+from ...stretch_curve import StrainStiffening
 from .constraints import ProjectConstraints
 
 
@@ -152,6 +156,7 @@ class ProjectFabric:
         self.stencil_alive = np.ones(f.num_stencils, np.uint8)
         self._scale = 1.0 / (4.0 * f.grid.dx * f.grid.dz)
         self._masks_torn = 0  # state.torn when the masks were last made
+        self.stiffening = self._stiffening(f)
         self.hierarchy = levels
         if levels is not None:
             self.name = "project_fabric_levels"
@@ -164,6 +169,12 @@ class ProjectFabric:
         self.edges.refresh_masses()
         self.cell_alpha_t = fabric.cell_compliance / (h * h)
         self.stencil_alpha_t = np.ascontiguousarray(fabric.stencil_compliance / (h * h))
+        self.stiffening = self._stiffening(fabric)
+
+    def _stiffening(self, fabric):
+        if fabric.stretch is None:
+            return None
+        return StrainStiffening(fabric.stretch, self.model.edges, self.model.rest_length)
 
     @property
     def lambdas(self) -> np.ndarray:
@@ -181,6 +192,8 @@ class ProjectFabric:
             self._mask_torn(state.alive, state.torn)
         m, f = self.model, self.fabric
         has_edges = m.num_constraints > 0
+        if self.stiffening is not None and has_edges:
+            self.edges.set_compliance(self.stiffening.compliance(state.x), h)
         if f.stencils is not None:
             warm_start_stencils(state.x, m.inv_mass, f.stencils.particles, f.stencils.coeffs,
                                 self.stencil_alive, self.stencil_lambdas)
@@ -238,7 +251,7 @@ def fabric_force_energy(projection: ProjectFabric, h: float) -> float:
     estimate of the elastic energy (measures.py's for xpbd, extended to cells and stencils)."""
     p, f = projection, projection.fabric
     h2 = h * h
-    total = float(np.dot(f.compliance, (p.lambdas / h2) ** 2))
+    total = float(np.dot(np.asarray(p.alpha_t) * h2, (p.lambdas / h2) ** 2))
     total += f.cell_compliance * float(((p.cell_lambdas / h2) ** 2).sum())
     if f.num_stencils:
         total += float(np.dot(f.stencil_compliance,
