@@ -11,6 +11,9 @@ A material is the fabric in SI units, independent of the grid that discretises i
 - `damping` (1/s): a viscous drag per unit mass: without other forces a velocity decays as
   exp(−damping·t), whatever the timestep and substeps (0.69/s halves it each second).
 - `tear_strength` (N/m, optional): tension per unit width at which the fabric tears.
+- `tear_length` (m, default 5 mm): the width across which the tension is averaged before it is
+  compared with tear_strength, so that where stress concentrates (the end of a clamped line)
+  the outcome converges as the grid refines (sim/tearing.py).
 
 A measured preset also brings its stretch that stiffens with strain and its bending by
 direction (measured.py), which `stretch` and `bending` above give at small strain and for a
@@ -31,7 +34,7 @@ from ..user_values import short_repr
 from .errors import MaterialError
 from .measured import BendingByDirection, StretchCurve
 from .presets import get_preset, preset_names
-from .values import KEYS, number, stretch_pair
+from .values import DEFAULT_TEAR_LENGTH, KEYS, number, stretch_pair
 
 ALL_KEYS = ("preset",) + tuple(KEYS)
 NEEDED_WITHOUT_PRESET = ("areal_density", "stretch", "shear", "bending")
@@ -46,6 +49,7 @@ class Material:
     bending: float                 # N·m
     damping: float = 0.0           # 1/s
     tear_strength: float | None = None  # N/m
+    tear_length: float = DEFAULT_TEAR_LENGTH  # m, the width tear_strength is judged over
     preset: str = ""               # the preset it started from, "" for none
     # A measured preset's (warp, weft) tension curves and fold rigidities by direction; None:
     # the linear stretch and the one bending rigidity above.
@@ -93,7 +97,9 @@ def material_from_table(table: Any, where: str = "material") -> Material:
     return Material(areal_density=values["areal_density"], stretch_warp=warp,
                     stretch_weft=weft, shear=values["shear"], bending=values["bending"],
                     damping=values.get("damping", 0.0),
-                    tear_strength=values.get("tear_strength"), preset=preset_name,
+                    tear_strength=values.get("tear_strength"),
+                    tear_length=values.get("tear_length", DEFAULT_TEAR_LENGTH),
+                    preset=preset_name,
                     stretch_curves=curves, bending_by_direction=directions)
 
 

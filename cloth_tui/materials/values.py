@@ -37,7 +37,12 @@ KEYS: dict[str, KeySpec] = {
     "tear_strength": KeySpec("N/m", 0.0, 1e7, True,
                              "tension per unit width at which the fabric tears, with "
                              "behavior.tear (optional: without it, tear_stretch)"),
+    "tear_length": KeySpec("m", 0.0, 1.0, False,
+                           "the width across which the tension is averaged before it is "
+                           "compared with tear_strength (a few yarns; a grid coarser than it "
+                           "judges each edge alone)"),
 }
+DEFAULT_TEAR_LENGTH = 0.005  # m: a few yarns of a woven (0.2–1 mm apart)
 
 
 def describe(name: str) -> str:

@@ -92,7 +92,8 @@ def tear_stage(scene: Scene, model: ClothModel, solver: SolverBase) -> Effect:
     constraints pull with (their forces), else by behavior.tear_stretch (tearing.py)."""
     strength = tearing.tear_strength(scene.behavior, model)
     if strength is not None and solver.lambdas is not None:
-        return tearing.TearByStrength(model, solver.lambdas, strength)
+        return tearing.TearByStrength(model, solver.lambdas, strength,
+                                      model.fabric.material.tear_length)
     return tearing.TearConstraints(model, scene.behavior.tear_stretch)
 
 

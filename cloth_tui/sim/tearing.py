@@ -9,13 +9,19 @@ triangles that lost an edge (`intact_triangles`).
 
 Break criterion, checked once per substep after the constraint solve, in tension only:
 
-- by strength (`TearByStrength`: a scene's [material] with tear_strength, xpbd): a
-  structural edge breaks when the tension per unit width it carries exceeds tear_strength,
+- by strength (`TearByStrength`: a scene's [material] with tear_strength, a solver that
+  keeps multipliers): a structural edge breaks when the tension per unit width around it,
+  averaged across its direction over the fabric's tear_length ℓ, exceeds tear_strength,
 
-      −λ/h² / w  >  tear_strength   →   alive = 0
+      Σ_k o_k t_k / Σ_k o_k  >  tear_strength   →   alive = 0,    t_k = −λ_k/h² / w_k
 
-  with λ the edge's multiplier of the substep (tension makes it negative: xpbd/constraints.py) and w the
-  strip of sheet the edge stands for (material.strip_width). λ/h² is the force the
+  with λ_k the multiplier of the substep of an intact edge parallel to it in the band of
+  width ℓ centred on it (tension makes it negative: xpbd/constraints.py), w_k the strip of
+  sheet it stands for (material.strip_width) and o_k how much of that strip lies in the
+  band. On a grid coarser than ℓ the band is the edge's own strip and this is its own
+  tension. Where the tension is singular (the end of a clamped line) a single edge's grows
+  without bound as the grid refines, so a per-edge criterion tears ever earlier; the mean
+  over ℓ converges once the grid resolves ℓ (`strength_bands`). λ/h² is the force the
   constraint exerted in the substep, not its stretch read through the stiffness: a solve
   left short of convergence (few substeps, few passes) stretches the sheet further than the
   material would, but what it pushes with still balances the load, so the same load breaks
@@ -41,7 +47,7 @@ import math
 import numpy as np
 
 from .jit import kernel
-from .material import Grid, strip_width
+from .material import ALONG_X, Grid, pair_kinds, strip_width
 from .model import ClothModel
 from .state import ClothState
 
@@ -76,17 +82,74 @@ def break_overstretched_constraints(x, edges, rest, alive, tear_stretch) -> int:
 
 
 @kernel()
-def break_overloaded_constraints(lambdas, breaking_force, alive, h2) -> int:
-    """alive[e] = 0 for every intact constraint whose tension −λ/h² exceeds
-    breaking_force[e] (N); returns how many broke. λ < 0 in tension (xpbd/constraints.py's C = |x_b −
-    x_a| − L0 projected as Δλ = (−C − α̃λ)/…); a NaN λ breaks nothing (the runner's guard
-    sees the NaN state)."""
+def break_overloaded_bands(lambdas, width, alive, h2, band_offsets, band_edges, band_overlap,
+                           strength, mean) -> int:
+    """alive[e] = 0 for every intact constraint whose band's mean tension per unit width
+    (module docstring) exceeds `strength` (N/m); `mean` is scratch of one per constraint.
+    The means are all taken before any edge breaks, so the order of the edges changes
+    nothing. A NaN λ breaks nothing (the runner's guard sees the NaN state)."""
+    for e in range(lambdas.shape[0]):
+        mean[e] = 0.0
+        if not alive[e]:
+            continue
+        total = 0.0
+        weight = 0.0
+        for k in range(band_offsets[e], band_offsets[e + 1]):
+            n = band_edges[k]
+            if alive[n]:
+                total += band_overlap[k] * (-lambdas[n] / (h2 * width[n]))
+                weight += band_overlap[k]
+        mean[e] = total / weight
     broken = 0
     for e in range(lambdas.shape[0]):
-        if alive[e] and -lambdas[e] > breaking_force[e] * h2:
+        if alive[e] and mean[e] > strength:
             alive[e] = 0
             broken += 1
     return broken
+
+
+def strength_bands(grid: Grid, edges: np.ndarray, tear_length: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each structural edge's band (module docstring) as (offsets (M+1,), edges, overlaps
+    in m): the edges parallel to it whose strips meet the band of width `tear_length`
+    centred on it, across its direction, with how much of each strip lies in the band.
+    An edge's own strip always does, so every band holds its edge."""
+    kind, i, j = pair_kinds(grid, edges)
+    m = len(edges)
+    along_x = kind == ALONG_X
+    # across an edge along x lie the rows (spacing dz); across one along z, the columns
+    across = np.where(along_x, i, j)
+    spacing = np.where(along_x, grid.dz, grid.dx)
+    count = np.where(along_x, grid.rows, grid.cols)
+    lookup = np.full((2, grid.rows, grid.cols), -1, np.int64)
+    lookup[along_x.astype(np.int64), i, j] = np.arange(m)
+    reach = int(math.ceil(tear_length / (2.0 * min(grid.dx, grid.dz)))) + 1
+    owners, members, overlaps = [], [], []
+    for k in range(-reach, reach + 1):
+        line = across + k
+        inside = (line >= 0) & (line < count)
+        e = np.flatnonzero(inside)
+        row = np.where(along_x[e], line[e], i[e])
+        col = np.where(along_x[e], j[e], line[e])
+        neighbour = lookup[along_x[e].astype(np.int64), row, col]
+        # the neighbour's strip, relative to the edge's line: half a spacing each side, none
+        # beyond the sheet's border
+        h = spacing[e]
+        lo = k * h - np.where(line[e] > 0, h / 2, 0.0)
+        hi = k * h + np.where(line[e] < count[e] - 1, h / 2, 0.0)
+        overlap = np.minimum(hi, tear_length / 2) - np.maximum(lo, -tear_length / 2)
+        if k == 0:  # the edge's own strip, however narrow the band (alone, any weight)
+            overlap = np.where(overlap > 0.0, overlap, 1.0)
+        keep = (neighbour >= 0) & (overlap > 0.0)
+        owners.append(e[keep])
+        members.append(neighbour[keep])
+        overlaps.append(overlap[keep])
+    owner = np.concatenate(owners)
+    order = np.argsort(owner, kind="stable")
+    offsets = np.zeros(m + 1, np.int64)
+    np.cumsum(np.bincount(owner, minlength=m), out=offsets[1:])
+    return (offsets, np.ascontiguousarray(np.concatenate(members)[order]),
+            np.ascontiguousarray(np.concatenate(overlaps)[order]))
 
 
 @kernel(inline="always")
@@ -213,20 +276,23 @@ class TearConstraints:
 
 class TearByStrength:
     """The tearing stage by strength: after the constraint solve, structural edges whose
-    tension per unit width exceeds the material's tear_strength break (module docstring).
-    `lambdas` is the projection's live array of the substep's multipliers (model.edges
-    order), read after every solve."""
+    tension per unit width, averaged over the fabric's tear_length across them, exceeds its
+    tear_strength break (module docstring). `lambdas` is the projection's live array of the
+    substep's multipliers (model.edges order), read after every solve."""
 
     name = "tear_by_strength"
 
-    def __init__(self, model: ClothModel, lambdas: np.ndarray, tear_strength: float):
+    def __init__(self, model: ClothModel, lambdas: np.ndarray, tear_strength: float,
+                 tear_length: float = 0.0):
         self.model = model
         self.lambdas = lambdas
         self.tear_strength = float(tear_strength)
-        width = strip_width(Grid.of_model(model), model.edges)
-        # N: the force along each edge at which it breaks
-        self.breaking_force = np.ascontiguousarray(self.tear_strength * width)
+        grid = Grid.of_model(model)
+        self.width = np.ascontiguousarray(strip_width(grid, model.edges))
+        self.bands = strength_bands(grid, model.edges, float(tear_length))
+        self._mean = np.zeros(len(model.edges))
 
     def apply(self, state: ClothState, h: float) -> None:
-        _record_breaks(state, int(break_overloaded_constraints(
-            self.lambdas, self.breaking_force, state.alive, h * h)))
+        _record_breaks(state, int(break_overloaded_bands(
+            self.lambdas, self.width, state.alive, h * h, *self.bands, self.tear_strength,
+            self._mean)))

@@ -139,15 +139,18 @@ def test_without_tear_strength_a_material_tears_by_stretch():
     assert sim.control.tolerance == s.behavior.error_tolerance  # no tension to know
 
 
-def test_break_kernel_breaks_tension_above_the_force_only_and_counts_new_breaks():
+def test_break_kernel_breaks_tension_above_the_strength_only_and_counts_new_breaks():
+    # each edge its own band (a grid coarser than tear_length): its own tension per width
     lam = np.array([-2.0, -0.5, 3.0, -2.0, np.nan])  # N·s²: tension is λ < 0
-    force = np.ones(5)                               # N
+    width = np.full(5, 0.5)                          # m: 1 N/m breaks at a force of 0.5 N
     alive = np.array([1, 1, 1, 0, 1], np.uint8)
-    assert tearing.break_overloaded_constraints(lam, force, alive, 1.0) == 1
+    own = (np.arange(6), np.arange(5), np.ones(5))
+    mean = np.zeros(5)
+    assert tearing.break_overloaded_bands(lam, width, alive, 1.0, *own, 1.0, mean) == 1
     assert alive.tolist() == [0, 1, 1, 0, 1]  # compression, torn, NaN: untouched
-    assert tearing.break_overloaded_constraints(lam, force, alive, 1.0) == 0
+    assert tearing.break_overloaded_bands(lam, width, alive, 1.0, *own, 1.0, mean) == 0
     # λ is force × h²: the same λ at a substep of 0.1 s is a force 100× larger
-    assert tearing.break_overloaded_constraints(lam, force, alive, 0.01) == 1
+    assert tearing.break_overloaded_bands(lam, width, alive, 0.01, *own, 1.0, mean) == 1
 
 
 def test_the_cells_and_stencils_across_a_torn_edge_leave_the_solve():
