@@ -107,8 +107,7 @@ source = "s"
 
 @pytest.mark.parametrize("extra, says", [
     ("arcsim_stretching_strained = [[1, 2, 3, 4]]", r"five \[C11"),
-    ("arcsim_stretching_strained = [[1, 2, 3, 4], [1, 2, 3, 4], [1, 2, 3, 4], [1, 2, 3, 4],"
-     " [1, 2, 3]]", r"five \[C11"),
+    ("arcsim_stretching_strained = [" + "[1, 2, 3, 4], " * 4 + "[1, 2, 3]]", r"five \[C11"),
     ("arcsim_bending_45 = 40e-6", "both"),
     ("arcsim_bending_45 = 5e-6\narcsim_bending_90 = 40e-6", "convex"),
     ("arcsim_bending_45 = \"a\"\narcsim_bending_90 = 40e-6", "numbers"),
