@@ -18,6 +18,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from .scene_keys import SceneError
 from .user_values import finite_float, short_repr
 
 MAX_PIN_GROUPS = 64
@@ -95,7 +96,6 @@ def grid_of(cloth) -> tuple[int, int]:
 
 
 def _error(message: str) -> Exception:
-    from .scene import SceneError  # scene imports this module
     return SceneError(message)
 
 
