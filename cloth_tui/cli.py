@@ -215,7 +215,8 @@ def _exit_on_interrupt(say_it: bool) -> None:
 
 
 # The commands whose result is what they print: with stdout closed they are refused before
-# any work. (render and bake write files; serve and the app print nothing that matters.)
+# any work. (render and bake write files; serve's stdout is a log, and a log line that cannot
+# be written must not stop a server; the app draws on the terminal, not on stdout.)
 PRINTING_COMMANDS = ("simulate", "scenes", "materials", "bench", "accuracy", "lab", "wedge")
 
 
@@ -238,7 +239,7 @@ def _run(argv: list[str]) -> int:
         else:
             args = _parse(app_parser, argv)
             handler = cmd_app if args is not None else None
-        if handler in (cmd_app, cmd_serve):  # they print nothing that a failed write may stop
+        if handler in (cmd_app, cmd_serve):  # their stdout as it is (PRINTING_COMMANDS)
             sys.stdout = stdout
         status = handler(args) if handler is not None else 0
         sys.stdout.flush()  # a result still buffered fails here, inside the guard
