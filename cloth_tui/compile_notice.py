@@ -94,7 +94,8 @@ class CompileWatch:
         self._lock = threading.Lock()
         self._depth: dict[int, int] = {}  # per thread: nested compilations open
         self.compiled = 0
-        self._started: float | None = None
+        self._started: float | None = None  # when this phase of compiling began
+        self._compiled_before = 0  # kernels compiled in earlier phases
         self._last_end = 0.0
         self._listener = None
 
@@ -114,9 +115,14 @@ class CompileWatch:
     def _on_start(self) -> None:
         with self._lock:
             key = threading.get_ident()
+            now = time.monotonic()
+            if self._started is None or (not self._depth
+                                         and now - self._last_end > self.LINGER_S):
+                # a new phase (a kernel first needed later, as wind turned on): counted
+                # and timed from here, not from the session's first compile
+                self._started = now
+                self._compiled_before = self.compiled
             self._depth[key] = self._depth.get(key, 0) + 1
-            if self._started is None:
-                self._started = time.monotonic()
 
     def _on_end(self) -> None:
         with self._lock:
@@ -136,5 +142,6 @@ class CompileWatch:
                 return ""
             if not self._depth and now - self._last_end > self.LINGER_S:
                 return ""
-            return (f"compiling kernels (first run only)… {self.compiled} compiled, "
+            return (f"compiling kernels (first run only)… "
+                    f"{self.compiled - self._compiled_before} compiled, "
                     f"{now - self._started:.0f} s")

@@ -94,3 +94,26 @@ def test_the_apps_watch_counts_kernels_compiled_on_any_thread_and_falls_silent()
         outer(2.0)  # cached in the process: no event, still silent
         assert watch.describe(now=later) == "" and watch.compiled == 1
     watch.__exit__(None, None, None)  # a second exit (the app's shutdown) is harmless
+
+
+def test_a_later_phase_of_compiling_counts_from_its_own_start(monkeypatch):
+    # Turning wind on a minute in compiles its kernel then: the status line says "1 compiled,
+    # 0 s", not the session's count and the time since its first compile.
+    import cloth_tui.compile_notice as notice
+    from cloth_tui.compile_notice import CompileWatch
+
+    clock = [100.0]
+    monkeypatch.setattr(notice.time, "monotonic", lambda: clock[0])
+    watch = CompileWatch()  # events fed by hand: no numba listener needed
+    for _ in range(3):  # the first run's kernels
+        watch._on_start()
+        clock[0] += 10.0
+        watch._on_end()
+    assert watch.describe().endswith("3 compiled, 30 s")
+    clock[0] += 60.0
+    assert watch.describe() == ""
+    watch._on_start()  # the wind's kernel
+    clock[0] += 2.0
+    assert watch.describe().endswith("0 compiled, 2 s")
+    watch._on_end()
+    assert watch.describe().endswith("1 compiled, 2 s") and watch.compiled == 4
