@@ -4,7 +4,7 @@ in 2 s as a share of its free energy (released flat; E_eq from a settled damped 
 
     python tools/solver_lab/bench.py CANDIDATE CELLS [CELLS...]
 CANDIDATE: lbfgs:IT:SUB (the registered solver), qn:IT:SUB[:THETA] (its prototype, qn.py,
-with the θ-scheme), xpbd:IT:SUB / hpbd:IT:SUB, or default:SOLVER (4 substeps, adaptive).
+with the θ-scheme), pd:IT:SUB[:RHO] (pd.py), xpbd:IT:SUB / hpbd:IT:SUB, or default:SOLVER (4 substeps, adaptive).
 Run with OPENBLAS_NUM_THREADS=1: a threaded BLAS spins on a shared 2-core machine."""
 import sys
 import time
@@ -35,6 +35,12 @@ def make(candidate, cells, damping=5.0, preset="denim"):
     if kind == "lbfgs":
         sim = simulation(cells, solver="lbfgs", substeps=sub, iterations=it, damping=damping,
                          preset=preset)
+        return sim
+    if kind == "pd":
+        from pd import ChebyshevPD
+        sim = simulation(cells, substeps=sub, iterations=1, damping=damping, preset=preset)
+        rho = float(rest[2]) if len(rest) > 2 else 0.95
+        swap(sim, ChebyshevPD(sim.model, sim.step.h, it, rho=rho))
         return sim
     return simulation(cells, solver=kind, substeps=sub, iterations=it, damping=damping,
                       preset=preset)
