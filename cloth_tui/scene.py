@@ -21,16 +21,14 @@ from .materials.section import (MaterialSection, is_material_key, section_from_v
 from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
                          groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
-from .scene_keys import MIN_DIRECTION_NORM, SceneError, key, vec3
+from .scene_keys import MIN_DIRECTION_NORM, SECTIONS, SceneError, key, vec3
 from .sim import shapes
 from .sim.solvers import registry as solver_registry
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
 
-SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")
 MAX_RESOLUTION = 512  # particles along either side of the sheet
 NAIVE_MAX_PARTICLES = 128 * 128  # naive self-collision is O(N²): beyond this, the hash
-ORIGINAL_TIMESTEP = 0.018  # s: the original's fixed step; `damping` is defined per this interval
 TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
 MASS_MODELS = ("area", "uniform")
@@ -426,12 +424,7 @@ def _check_texture(value: str, bad) -> None:
         raise bad(problem)
 
 
-def integrator_for(behavior: Behavior) -> str:
-    """The integrator a solver runs: `auto` is the first its spec names (verlet for the
-    position-based solvers, implicit_euler, stable at any substep length, for springs)."""
-    if behavior.integrator != "auto":
-        return behavior.integrator
-    return solver_registry.spec(behavior.solver).integrators[0]
+integrator_for = solver_registry.integrator_for  # (its home is the solvers' registry)
 
 
 def validate(scene: Scene) -> None:

@@ -9,6 +9,8 @@ from typing import Any
 
 from .safe_text import escape_controls
 
+SECTIONS = ("cloth", "forces", "scene", "behavior", "appearance")  # a scene file's tables
+
 # A direction shorter than this is refused: the kernels normalise it, and the square of a
 # length near the subnormal range underflows to 0 (a division by zero) or loses its digits.
 MIN_DIRECTION_NORM = 1e-6

@@ -29,13 +29,16 @@ Kernels here keep IEEE semantics (no fastmath) because a NaN must show as NaN.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..scene import Scene
 from .jit import kernel
 from .model import ClothModel
 from .state import ClothState
+
+if TYPE_CHECKING:
+    from ..scene import Scene
 
 
 @kernel(fastmath=False, inline="always")

@@ -17,13 +17,16 @@ average (`DampingMeter`). Plain Python over the compiled measures.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..scene import Scene
 from .material import damping_factor as decay_factor
 from .model import ClothModel
 from .stages import damping_factor
+
+if TYPE_CHECKING:
+    from ..scene import Scene
 
 # A particle closer than this many skins to a collider may be in contact, whose friction and
 # inelastic contacts lose energy the numerical damping must not be blamed for.

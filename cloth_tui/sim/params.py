@@ -17,11 +17,14 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 from ..materials.schema import Material
 from ..materials.section import MaterialSection
-from ..scene import SECTIONS, Scene
+from ..scene_keys import SECTIONS
+
+if TYPE_CHECKING:
+    from ..scene import Scene
 
 
 def _positive(value: float) -> bool:

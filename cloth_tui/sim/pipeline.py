@@ -24,10 +24,10 @@ the registry (solvers/registry.py). The stages read their numbers
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..scene import Scene
 from . import colliders, forces, impulses, selfcollision, tearing
 from .model import ClothModel
 from .params import StepParams
@@ -35,6 +35,9 @@ from .pins import pin_effects
 from .protocols import Collider, Effect, ForceEffect
 from .solvers import SolverBase, registry
 from .stages import ApplyPins, EnforceTethers
+
+if TYPE_CHECKING:
+    from ..scene import Scene
 
 
 @dataclass

@@ -8,10 +8,11 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..scene import Scene, SceneError
+from ..scene_keys import SceneError
 from . import pipeline
 from .measures import (all_finite, energy, free_energy, gravitational_energy, kinetic_energy,
                        per_constraint, potential_floor, solve_error, stretch)
@@ -25,6 +26,9 @@ from .state import ClothState
 from .substep_control import SubstepController
 from .solvers import registry
 from .tearing import cut_between, strength_tolerance, tear_strength
+
+if TYPE_CHECKING:
+    from ..scene import Scene
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
@@ -401,11 +405,13 @@ class Simulation:
     # -- reporting ------------------------------------------------------------------------
     def _alpha_tilde_now(self) -> np.ndarray:
         """α̃ = α/h² of the step's constraints, one per constraint (0 for rigid ones and
-        springs), made once per step."""
-        if self._alpha_tilde is None:
-            solver = self.step.solver
-            self._alpha_tilde = per_constraint(0.0 if solver is None else solver.alpha_tilde,
-                                               self.model.num_constraints)
+        springs), made again only when the solver's is another (a measured fabric's edges
+        take a new α each substep: sim/stretch_curve.py)."""
+        solver = self.step.solver
+        source = 0.0 if solver is None else solver.alpha_tilde
+        if self._alpha_tilde is None or source is not self._alpha_tilde_of:
+            self._alpha_tilde = per_constraint(source, self.model.num_constraints)
+            self._alpha_tilde_of = source
         return self._alpha_tilde
 
     def _solve_error(self) -> float:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 
-from ..scene import ORIGINAL_TIMESTEP
+from ..original import ORIGINAL_TIMESTEP
 from .jit import kernel
 
 

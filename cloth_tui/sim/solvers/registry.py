@@ -45,6 +45,15 @@ def spec(name: str) -> SolverSpec:
     return _SPECS[name]
 
 
+def integrator_for(behavior) -> str:
+    """The integrator behavior.solver runs: behavior.integrator, or for `auto` the first
+    its spec names (verlet for the position-based solvers; implicit_euler, stable at any
+    substep length, for springs)."""
+    if behavior.integrator != "auto":
+        return behavior.integrator
+    return spec(behavior.solver).integrators[0]
+
+
 def reference() -> str:
     """The reference solver's name (SolverSpec.reference)."""
     return next(n for n, s in _SPECS.items() if s.reference)

@@ -45,7 +45,8 @@ import math
 
 import numpy as np
 
-from ....scene import ORIGINAL_TIMESTEP, integrator_for
+from ....original import ORIGINAL_TIMESTEP
+from ..registry import integrator_for
 from .implicit_euler import CG_MAX_ITERATIONS, CG_TOLERANCE, DEGENERATE_LENGTH, solve_implicit_euler
 from ...jit import kernel
 from ...params import StepParams
