@@ -195,6 +195,15 @@ def _raise_interrupt(_signum, _frame):
     raise KeyboardInterrupt
 
 
+def _hand_back_sigint() -> None:
+    """Python's own SIGINT handler again, for the app and serve: asyncio's runner turns
+    Ctrl+C into cancelling its main task only where it finds that handler in place."""
+    import signal
+
+    if signal.getsignal(signal.SIGINT) is _raise_interrupt:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
 def _on_main_thread() -> bool:
     import threading
     return threading.current_thread() is threading.main_thread()
@@ -241,6 +250,7 @@ def _run(argv: list[str]) -> int:
             handler = cmd_app if args is not None else None
         if handler in (cmd_app, cmd_serve):  # their stdout as it is (PRINTING_COMMANDS)
             sys.stdout = stdout
+            _hand_back_sigint()
         status = handler(args) if handler is not None else 0
         sys.stdout.flush()  # a result still buffered fails here, inside the guard
         return status
