@@ -177,3 +177,23 @@ def test_a_clamped_strip_hangs_as_the_elastica_of_its_own_directions_rigidity(pr
     # denim's warp strip is 1.5× as stiff as its weft strip, pink-ribbon-brown's 0.5×: with
     # one rigidity for both, one of each pair would miss by a third or more
     assert _clamped_drop(preset, along) == pytest.approx(cantilever(2.0).tip_drop, rel=0.02)
+
+
+def test_the_accuracy_control_judges_a_stiffening_fabric_by_the_compliance_in_force():
+    # a sweat knit hung by two clips stretches to ~20 % by its corners, where its weft is
+    # ×50 as stiff as at rest: judged by its slack α the solve never looks converged and the
+    # control runs at its cap
+    sim = Simulation(Scene().with_values({
+        "cloth.size": 1.0, "cloth.resolution": 17, "cloth.pinned": "none",
+        "cloth.height": 1.0, "scene.floor": False, "behavior.solver": "xpbd",
+        "behavior.adaptive": True,
+        "material": {"preset": "wang2011-navy-sparkle-sweat", "damping": 2.0},
+        "pins": [{"rows": [0, 0], "cols": [0, 1]}, {"rows": [0, 0], "cols": [-2, -1]}]}))
+    used = []
+    for _ in range(60):
+        sim.advance_frame()
+        used.append(sim.stats().substeps_used)
+    stats = sim.stats()
+    assert stats.finite and stats.tolerance_met
+    assert max(used[30:]) <= 12  # 6 measured; judged by the slack α, 35 and rising
+    assert 0.1 < stats.max_stretch < 0.3  # stretched well into its stiffening
