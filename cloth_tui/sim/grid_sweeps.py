@@ -8,8 +8,8 @@ of w places with h = ⌈nz/4⌉ and w = ⌈nx/4⌉: particle (i, j) sits at k·w
 k = i div 4, m = j div 4. Since 4 is a multiple of every colour's period, a colour takes
 whole blocks, and all pairs whose first particle lies in block A have their second in one
 block B at one fixed offset: a colour is at most 16 runs a[t] – b[t + Δ], each up to h·w
-long, that vectorise. (The layout before kept one run per row and lane, and
-setting up each of those short runs cost about half the sweep at n = 128.)
+long, that vectorise (one run per row and lane would make the runs short, and setting each
+up would cost as much as sweeping it).
 
 A run that steps across a column edge (m + 1 = w) pairs particles that are not neighbours,
 and a run's ends may pair a particle with grid padding. Those pairs keep a slot whose
@@ -39,8 +39,7 @@ COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 BLOCKS = 4  # rows and columns are split by index mod 4
 CHUNK = 512  # pairs a thread takes at a time (a multiple of the vector width)
 # Doubles between blocks and planes, so that a and b (and x, y, z) of one pair do not lie a
-# multiple of 4 KiB apart, where loads wait on unrelated stores (measured at n = 128, one
-# thread, without either: 375 against 610 M projections/s)
+# multiple of 4 KiB apart, where loads wait on unrelated stores (4K aliasing)
 BLOCK_PAD = 8
 PLANE_SKEW = 1088  # bytes: y's plane starts this far past x's modulo 4 KiB, z's twice as far
 
@@ -237,8 +236,7 @@ def correct_pair(xa, ya, za, wa, xb, yb, zb, wb, t, s, dx, dy, dz):
 # never do: a and b lie in different blocks), and vectorises the loop. Inlined into the
 # chunk, the slices' bounds were lost ("cannot identify array bounds") and the loop stayed
 # scalar. `alive` enters as a factor, not a branch: with `not alive[t]` in the select,
-# LLVM's cost model found the vector loop not worth it (measured at 128², one thread, PBD:
-# 155 M projections/s scalar, 425 vectorised, 4 doubles a register; XPBD 130 and 304).
+# LLVM's cost model found the vector loop not worth it (docs/benchmarks.md has the rates).
 
 
 @kernel()

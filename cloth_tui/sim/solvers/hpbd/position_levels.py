@@ -35,8 +35,7 @@ from ...jit import kernel
 COARSE_PASSES = 2  # one-sided passes per substep on the finest coarse level
 MAX_LEVEL_PASSES = 64  # (a 3 × 3 level is solved long before)
 # Levels with fewer nodes run their passes as a loop over their constraint list, not as
-# grid_sweeps' runs: at 256², ms a substep for the level of 289 nodes, 0.07 as a loop and 0.11
-# as runs; of 1089, 0.17 and 0.10; of 16,641, 0.84 and 0.47
+# grid_sweeps' runs, whose set-up a small level does not repay (measured: docs/physics.md)
 SWEEP_MIN_NODES = 1024
 
 
@@ -285,9 +284,9 @@ class ProjectHierarchy:
 
     def refresh_masses(self) -> None:
         """The levels' masses again from the model's (written in place: model.refitted),
-        where they changed: the solver asks on every change of its params (at 256²
-        rebuilding the levels and their sweep plans took 66 ms). Which nodes are pinned
-        does not change here, so only the inverse masses are written."""
+        where they changed: the solver asks on every change of its params, and rebuilding
+        the levels and their sweep plans would hold a slider's every move. Which nodes are
+        pinned does not change here, so only the inverse masses are written."""
         if np.array_equal(self._seen_inv_mass, self.model.inv_mass):
             return
         levels = build_levels(self.model)
