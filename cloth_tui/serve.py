@@ -2,8 +2,8 @@
 (textual-serve, the optional `[serve]` extra).
 
 The server runs no simulation itself: each browser that opens the page gets its own app
-process (`python -m cloth_tui SCENE …`), whose screen and keys travel over a websocket. In
-there the preview draws in half-block cells (graphics/detect.py sees the web driver) and every
+process (`python -m cloth_tui.served_app SCENE …`), whose screen and keys travel over a
+websocket. In there the preview draws in half-block cells (graphics/detect.py sees the web driver) and every
 capture is also handed to the browser as a download (capture_actions.py).
 """
 
@@ -36,8 +36,9 @@ def is_local(host: str) -> bool:
 
 
 def app_command(scene: str, overrides: list[str], captures_dir: Path) -> str:
-    """The shell command textual-serve runs for each visitor: this Python, this package."""
-    argv = [sys.executable, "-m", "cloth_tui", scene]
+    """The command line of each visitor's app: this Python, this package (served_app:
+    the app with Textual's web driver made safe for downloads)."""
+    argv = [sys.executable, "-m", "cloth_tui.served_app", scene]
     for override in overrides:
         argv += ["--set", override]
     argv += ["--captures", str(captures_dir)]
@@ -92,7 +93,7 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
     from aiohttp.web_runner import GracefulExit
     from textual_serve.server import Server, to_int
 
-    from .serve_apps import VisitorApp
+    from .serve_apps import VisitorApp, with_download_links
 
     visits: dict[asyncio.Task, VisitorApp] = {}  # one per open page: its handler, its app
 
@@ -164,9 +165,12 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
 
         async def handle_index(self, request):
             """The page connects its websocket back to the address the browser used: with
-            --host 0.0.0.0 the configured one is no address a browser can reach."""
+            --host 0.0.0.0 the configured one is no address a browser can reach. Its
+            downloads start by a link (serve_apps.DOWNLOAD_BY_LINK)."""
             self.public_url = f"{request.scheme}://{request.host}"
-            return await super().handle_index(request)
+            response = await super().handle_index(request)
+            response.text = with_download_links(response.text)
+            return response
 
     return ClothServer(command, host=host, port=port, title="cloth-tui")
 

@@ -21,6 +21,35 @@ KILL_S = 5.0  # after SIGKILL: the kernel's part only
 OUTPUT_S = 5.0  # the app's output read to its end once the process is gone
 
 
+# textual-serve's page opens each download with window.open when the app's message arrives;
+# a popup blocker refuses that unless a key was pressed in the last few seconds, and under
+# load the message came later (the screenshot was saved, no download began). A link's
+# click starts a download without a popup.
+DOWNLOAD_BY_LINK = """<script>
+(() => {
+  const open = window.open.bind(window);
+  window.open = (url, target, ...rest) => {
+    if (new URL(url, location.href).pathname.startsWith("/download/")) {
+      const link = document.createElement("a");
+      link.href = url;
+      link.download = "";
+      document.body.appendChild(link);
+      link.click();
+      link.remove();
+      return null;
+    }
+    return open(url, target, ...rest);
+  };
+})();
+</script>
+"""
+
+
+def with_download_links(page: str) -> str:
+    """The app's page, its downloads started by a link rather than a popup."""
+    return page.replace("</head>", DOWNLOAD_BY_LINK + "</head>", 1)
+
+
 class VisitorApp(AppService):
     def __init__(self, command: str, websocket, download_manager, debug: bool) -> None:
         self._websocket = websocket

@@ -152,6 +152,14 @@ class Chromium:
                         {"type": "rawKeyDown", **common})
         await self.send("Input.dispatchKeyEvent", {"type": "keyUp", **common})
 
+    async def type_from_script(self, text: str) -> None:
+        """`text` typed into the page's terminal by a script, not a person: the page gets
+        no user activation from it, so a popup it opens in answer is blocked, as one
+        opened seconds after a real key press is."""
+        await self.evaluate(
+            "document.querySelector('.xterm-helper-textarea').dispatchEvent(new InputEvent("
+            f"'input', {{data: {json.dumps(text)}, inputType: 'insertText', bubbles: true}}))")
+
     async def evaluate(self, expression: str) -> Any:
         result = await self.send("Runtime.evaluate",
                                  {"expression": expression, "returnByValue": True})
