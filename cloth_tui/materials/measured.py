@@ -52,6 +52,25 @@ class StretchCurve:
         """T(ε), N/m of rest width."""
         return self.secant(strain) * strain
 
+    def tangent(self, strain: float) -> float:
+        """dT/dε, N/m: how fast the tension grows at strain ε."""
+        if strain <= 0.0:
+            return self.low
+        slope = (self.high - self.low) / self.reach if strain < self.reach else 0.0
+        green = strain * (1.0 + strain) * (1.0 + 0.5 * strain)
+        return (slope * green
+                + self.stiffness(strain) * (1.0 + 3.0 * strain + 1.5 * strain * strain))
+
+    def strain_at(self, tension: float) -> float:
+        """The strain ε ≥ 0 at which T(ε) = `tension` (≥ 0), by bisection: T grows with ε."""
+        lo, hi = 0.0, 1.0
+        while self.tension(hi) < tension:
+            hi *= 2.0
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if self.tension(mid) < tension else (lo, mid)
+        return 0.5 * (lo + hi)
+
 
 @dataclass(frozen=True)
 class BendingByDirection:

@@ -103,6 +103,15 @@ def material_from_table(table: Any, where: str = "material") -> Material:
                     stretch_curves=curves, bending_by_direction=directions)
 
 
+def stiffness_at_tension(material: Material, tension: float) -> float:
+    """N/m: the larger of the warp's and weft's stiffness dT/dε where each pulls with
+    `tension` (N/m): the stretch itself for the linear model, the tension curve's tangent
+    for a measured preset's (what an error in strain costs in tension there)."""
+    if material.stretch_curves is None:
+        return max(material.stretch_warp, material.stretch_weft)
+    return max(c.tangent(c.strain_at(tension)) for c in material.stretch_curves)
+
+
 def bending_length(material: Material, gravity: float = 9.81) -> float:
     """Peirce's bending length c = (B / (ρ_A g))^⅓ in metres: the fabric's own scale, half
     the overhang of the ASTM D1388 cantilever test."""

@@ -46,6 +46,7 @@ import math
 
 import numpy as np
 
+from ..materials.schema import stiffness_at_tension
 from .jit import kernel
 from .material import ALONG_X, Grid, pair_kinds, strip_width
 from .model import ClothModel
@@ -189,10 +190,10 @@ def tear_strength(behavior, model: ClothModel) -> float | None:
 
 def strength_tolerance(model: ClothModel, strength: float) -> float:
     """The solve error (share of rest length) that knows every edge's tension to within
-    TEAR_FORCE_SHARE of `strength`: that share of the breaking strain of the stiffer
-    direction."""
-    m = model.fabric.material
-    return TEAR_FORCE_SHARE * strength / max(m.stretch_warp, m.stretch_weft)
+    TEAR_FORCE_SHARE of `strength`: that share of `strength` over the stiffer direction's
+    stiffness where it pulls with `strength` (a measured preset's tension curve is steeper
+    there than at rest)."""
+    return TEAR_FORCE_SHARE * strength / stiffness_at_tension(model.fabric.material, strength)
 
 
 def _record_breaks(state: ClothState, count: int) -> int:

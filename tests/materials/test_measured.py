@@ -130,3 +130,24 @@ def test_a_curve_is_linear_in_compression_and_flat_past_its_reach():
     assert c.stiffness(0.5) == c.stiffness(1 / 6) == 70.0
     assert c.stiffness(1 / 12) == pytest.approx(40.0)
     assert BendingByDirection(1.0, 1.0, 1.0).grid_rigidities() == (1.0, 1.0, 1.0)
+
+
+@pytest.mark.parametrize("name", ["jersey", "denim", "wang2011-white-swim-solid"])
+def test_a_curves_tangent_and_inverse_are_its_tensions(name):
+    for c in load_presets()[name].stretch_curves:
+        for strain in (0.01, 0.1, 0.2, 0.6):
+            d = 1e-7
+            assert c.tangent(strain) == pytest.approx(
+                (c.tension(strain + d) - c.tension(strain - d)) / (2 * d), rel=1e-5)
+            assert c.strain_at(c.tension(strain)) == pytest.approx(strain, rel=1e-9)
+
+
+def test_the_stiffness_where_a_fabric_pulls_with_a_tension():
+    from cloth_tui.materials.schema import stiffness_at_tension
+    linear = material_from_table({"preset": "jersey", "stretch": [30.0, 70.0]})
+    assert stiffness_at_tension(linear, 100.0) == 70.0
+    jersey = material_from_table({"preset": "jersey"})
+    warp, weft = jersey.stretch_curves
+    assert stiffness_at_tension(jersey, 100.0) == max(
+        warp.tangent(warp.strain_at(100.0)), weft.tangent(weft.strain_at(100.0)))
+    assert stiffness_at_tension(jersey, 100.0) > 10 * max(warp.low, weft.low)

@@ -197,3 +197,23 @@ def test_the_accuracy_control_judges_a_stiffening_fabric_by_the_compliance_in_fo
     assert stats.finite and stats.tolerance_met
     assert max(used[30:]) <= 12  # 6 measured; judged by the slack α, 35 and rising
     assert 0.1 < stats.max_stretch < 0.3  # stretched well into its stiffening
+
+
+def test_tearing_asks_the_solve_for_the_tension_where_the_curve_is_steep():
+    # the error that knows the tension to a tenth of the strength is a tenth of the strength
+    # over the stiffness there: for jersey at 100 N/m, ×20 its stiffness at rest
+    from cloth_tui.sim.tearing import TEAR_FORCE_SHARE, strength_tolerance
+    p = get_preset("jersey")
+    tolerances = {}
+    for label, extra in (("curve", {}), ("linear", {"stretch": [p.stretch_warp,
+                                                               p.stretch_weft]})):
+        scene = Scene().with_values({
+            "behavior.solver": "xpbd", "behavior.tear": True, "cloth.resolution": 9,
+            "material": {"preset": "jersey", "tear_strength": 100.0, **extra}})
+        m = build_model(scene.cloth, scene.behavior, scene.pins, scene.material.material)
+        tolerances[label] = strength_tolerance(m, 100.0)
+    weft = p.stretch_curves[1]
+    assert tolerances["curve"] == pytest.approx(
+        TEAR_FORCE_SHARE * 100.0 / weft.tangent(weft.strain_at(100.0)))
+    assert tolerances["linear"] == pytest.approx(TEAR_FORCE_SHARE * 100.0 / p.stretch_weft)
+    assert tolerances["curve"] < tolerances["linear"] / 10
