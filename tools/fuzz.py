@@ -37,6 +37,7 @@ import json
 import math
 import os
 import random
+import re
 import subprocess
 import sys
 import tempfile
@@ -48,6 +49,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, not installed)
+from cloth_tui.materials.presets import preset_names
+from cloth_tui.materials.values import KEYS as MATERIAL_KEYS
 from cloth_tui.resources import assets_dir  # noqa: E402
 from cloth_tui.sim.runner import MAX_GUARD_LEVEL  # noqa: E402
 
@@ -55,6 +58,12 @@ WORK_BUDGET = 1_000_000  # particles × substeps × passes per frame (work_per_f
 IMPLICIT_PASSES = 40  # what a substep of implicit Euler is counted as (see _passes)
 PENETRATION_SLACK = 0.01  # m beyond scene.thickness
 WRONG = ["text", True, -1, 1e308, [1, 2], {"a": 1}, float("inf")]
+TINY = 5e-324  # the smallest positive float: an open lower bound of 0 accepts it
+SOFT = [1e-9, 0.01, 0.5, 0.9, 0.99, 0.9999, 0.999999]  # soft pin stiffnesses (hard is 1)
+# What `finite: true` vouches for and that a measured run always has (others may be null)
+ALWAYS_NUMBERS = ("min_y", "max_speed", "max_stretch", "mean_stretch", "penetration")
+# The compile notice is news, not a warning: a cold cache prints it on any run
+NOTICE = re.compile(r"cloth-tui: (compiling kernels|\d+ kernels compiled in)")
 
 
 def _number(rng: random.Random, f: dataclasses.Field) -> float | int:
@@ -112,8 +121,10 @@ def random_value(rng: random.Random, f: dataclasses.Field):
     return _number(rng, f)
 
 
-def random_scene(seed: int, index: int) -> dict:
-    """Scene `index` of run `seed`: each key set with probability 1/2."""
+def random_scene(seed: int, index: int, budget: int = WORK_BUDGET, plain: bool = False) -> dict:
+    """Scene `index` of run `seed`: each key set with probability 1/2; unless `plain`, a
+    [material], [[pins]] groups, cylinders and tori, or a sheet at rest, drawn from a stream
+    of their own (so the other keys are those a plain scene of the seed has)."""
     rng = random.Random(seed * 1_000_003 + index)
     doc: dict = {}
     for section in sc.SECTIONS:
@@ -135,9 +146,116 @@ def random_scene(seed: int, index: int) -> dict:
     behavior = doc.get("behavior", {})
     if behavior.get("solver", "pbd") != "springs" and rng.random() < 0.9:
         behavior.pop("integrator", None)  # pbd/xpbd need verlet: keep most scenes runnable
+    if not plain:
+        _extras(random.Random(f"extras-{seed}-{index}"), doc)
     _sheet_above_floor(rng, doc)
-    _within_budget(doc)
+    _within_budget(doc, budget)
     return {k: v for k, v in doc.items() if v}
+
+
+def _extras(rng: random.Random, doc: dict) -> None:
+    """A [material] (half the scenes), [[pins]] groups (a third), cylinders and tori among the
+    objects; one scene in eight is a sheet at rest instead."""
+    if rng.random() < 0.125:
+        _at_rest(rng, doc)
+        return
+    if rng.random() < 0.5:
+        doc["material"] = random_material(rng)
+        behavior = doc.get("behavior", {})  # a material needs hpbd, xpbd or lbfgs: mostly so
+        if behavior.get("solver") in ("pbd", "springs") and rng.random() < 0.7:
+            behavior.pop("solver")
+            behavior.pop("integrator", None)
+    if rng.random() < 0.35:
+        doc["pins"] = [random_pin_group(rng, k) for k in range(rng.randint(1, 3))]
+        if rng.random() < 0.8:  # the pattern would hold the corners differently: refused
+            doc.setdefault("cloth", {})["pinned"] = "none"
+    for obj in doc.get("objects", []):
+        if rng.random() < 0.5:
+            obj["type"] = rng.choice(["cylinder", "torus"])
+            obj.pop("path", None)
+            if obj["type"] == "torus" and rng.random() < 0.8:  # mostly a tube inside its ring
+                obj["major_radius"] = rng.choice([0.05, 0.3, 1.0])
+                obj["minor_radius"] = obj["major_radius"] * rng.choice([0.02, 0.1, 0.5, 0.99])
+
+
+def random_material(rng: random.Random) -> dict | str:
+    """A preset (with some keys over it), or every key typed: the edges of each range (the
+    smallest float above an open 0), log-uniform between; sometimes a value to refuse."""
+    if rng.random() < 0.05:
+        return "original"
+    preset = rng.random() < 0.5
+    table: dict = {"preset": rng.choice(preset_names())} if preset else {}
+    for name, spec in MATERIAL_KEYS.items():
+        needed = name in ("areal_density", "stretch", "shear", "bending")
+        if rng.random() < (0.7 if preset else 0.0 if needed else 0.5):
+            continue
+        table[name] = _material_number(rng, spec)
+        if name == "stretch" and rng.random() < 0.3:
+            table[name] = [table[name], _material_number(rng, spec)]
+    if rng.random() < 0.05:
+        table[rng.choice(list(MATERIAL_KEYS) + ["colour"])] = rng.choice(WRONG)
+    return table
+
+
+def _material_number(rng: random.Random, spec) -> float:
+    lo_pos = TINY if spec.lo_open else 0.0
+    return rng.choice([lo_pos, lo_pos, spec.hi, 1e-300, 1e-12,
+                       math.exp(rng.uniform(math.log(1e-9), math.log(spec.hi)))])
+
+
+def random_pin_group(rng: random.Random, k: int, still: bool = False) -> dict:
+    """Group k: rows and columns (negative from the end) or single particles in row k or
+    k from the end (so that groups seldom hold a particle two ways, which is refused), held
+    hard, softly or along keys; `still`: held where they are."""
+    g: dict = {}
+    row = rng.choice([k, -1 - k])
+    if rng.random() < 0.3:
+        g["at"] = [[k, rng.choice([0, 1, 2])] for _ in range(rng.randint(1, 3))]
+    else:
+        if rng.random() < 0.8:
+            g["rows"] = [row, row]
+        if rng.random() < 0.6:
+            g["cols"] = rng.choice([[0, 0], [-1, -1], [0, -1], [1, -2]])
+    if rng.random() < 0.5:
+        g["stiffness"] = rng.choice(SOFT)
+    if still:
+        return g
+    scale = rng.choice([0.0, 0.05, 0.5, 3.0, 1e3])
+    if rng.random() < 0.4:
+        t, keys = 0.0, []
+        for _ in range(rng.randint(1, 4)):
+            keys.append([t] + [rng.uniform(-scale, scale) for _ in range(3)])
+            t += rng.choice([1e-6, 0.01, 0.1, 1.0])
+        g["keys"] = keys
+    elif rng.random() < 0.7:
+        g["offset"] = [rng.uniform(-scale, scale) for _ in range(3)]
+    return g
+
+
+def _at_rest(rng: random.Random, doc: dict) -> None:
+    """Nothing moves the sheet: no gravity, wind, rain, custom force, wave, objects or moving
+    pins (any solver, integrator, material and pins held where they are)."""
+    doc["forces"] = {k: v for k, v in doc.get("forces", {}).items()
+                     if k in ("integrate", "gravity_strength", "wind_strength")}
+    doc["forces"].update(gravity=False, wind=False, rain=False, custom="none")
+    doc.setdefault("behavior", {})["wave"] = False
+    doc.setdefault("scene", {}).update(object="none", moving=False)
+    doc.pop("objects", None)
+    if rng.random() < 0.5:
+        doc["material"] = random_material(rng)
+    if rng.random() < 0.3:
+        doc["pins"] = [random_pin_group(rng, k, still=True) for k in range(rng.randint(1, 2))]
+        doc.setdefault("cloth", {})["pinned"] = "none"
+
+
+def at_rest(doc: dict) -> bool:
+    """Whether nothing in the scene moves its sheet (see _at_rest)."""
+    forces, scene = doc.get("forces", {}), doc.get("scene", {})
+    return (forces.get("gravity") is False and forces.get("wind") is False
+            and forces.get("rain") is False and forces.get("custom") == "none"
+            and doc.get("behavior", {}).get("wave") is False and not doc.get("objects")
+            and scene.get("object") == "none" and scene.get("moving") is False
+            and not any("keys" in g or "offset" in g for g in doc.get("pins", [])))
 
 
 def _sheet_above_floor(rng: random.Random, doc: dict) -> None:
@@ -179,15 +297,15 @@ def _substeps(behavior: dict, substeps: int, max_substeps: int) -> int:
     return max(substeps, max_substeps) if adaptive is True else substeps
 
 
-def _within_budget(doc: dict) -> None:
+def _within_budget(doc: dict, budget: int = WORK_BUDGET) -> None:
     """Lower iterations, then the adaptive ceiling, then substeps, then the resolution until
-    work_per_frame is within WORK_BUDGET."""
+    work_per_frame is within `budget`."""
     if work_per_frame(doc) is None:
         return
     cloth, behavior = doc.setdefault("cloth", {}), doc.setdefault("behavior", {})
     if behavior.get("self_collision") == "naive":
         cloth["resolution"] = min(cloth.get("resolution", 26), 32)
-    while work_per_frame(doc) > WORK_BUDGET:
+    while work_per_frame(doc) > budget:
         it, ms = behavior.get("iterations", 4), behavior.get("max_substeps", 128)
         s = behavior.get("substeps", 4)
         adaptive = _substeps(behavior, s, ms) > s
@@ -217,39 +335,52 @@ def to_toml(doc: dict) -> str:
             return "{" + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + "}"
         raise TypeError(type(v))
 
-    lines = []
+    # top-level keys (material = "original") before the first table, which would own them
+    lines = [f"{k} = {value(v)}" for k, v in doc.items() if not isinstance(v, (dict, list))]
     for section, values in doc.items():
-        if section == "objects":
+        if section in ("objects", "pins"):
             for obj in values:
-                lines += ["[[objects]]"] + [f"{k} = {value(v)}" for k, v in obj.items()]
+                lines += [f"[[{section}]]"] + [f"{k} = {value(v)}" for k, v in obj.items()]
+        elif not isinstance(values, dict):
+            continue
         elif values:
             lines += [f"[{section}]"] + [f"{k} = {value(v)}" for k, v in values.items()]
     return "\n".join(lines) + "\n"
 
 
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not JSON")
+
+
 def classify(code: int | None, out: str, err: str, doc: dict) -> tuple[list[str], dict]:
     if code is None:
         return ["timeout"], {}
+    err = "".join(line for line in err.splitlines(keepends=True) if not NOTICE.match(line))
+    alarms = (["traceback"] if "Traceback" in err else []) + \
+        (["runtime_warning"] if "RuntimeWarning" in err else [])
     if code == 2:
         return (["refused"] if err.count("\n") == 1 and err.endswith("\n") else
-                ["bad_message"]), {}
+                ["bad_message"]) + alarms, {}
     if code != 0:
-        return [f"exit_{code}"], {}
-    try:
-        stats = json.loads(out)
+        return [f"exit_{code}"] + alarms, {}
+    try:  # NaN and Infinity are Python's extensions, not JSON
+        stats = json.loads(out, parse_constant=_no_constant)
     except ValueError:
-        return ["bad_output"], {}
+        return ["bad_json"] + alarms, {}
     classes = []
     if not stats["finite"]:
         classes.append("non_finite")
+    elif any(k in stats and not isinstance(stats[k], (int, float)) for k in ALWAYS_NUMBERS):
+        classes.append("false_finite")  # a number written as null, yet `finite` vouched
     thickness = doc.get("scene", {}).get("thickness", sc.SceneSection().thickness)
-    if stats["penetration"] > thickness + PENETRATION_SLACK:
+    if (stats.get("penetration") or 0.0) > thickness + PENETRATION_SLACK:
         classes.append("penetration")
     if stats.get("halted"):
-        classes.append("diverged" if unstable_even_at_the_guards_substeps(doc) else "halted")
+        classes.append("halted_at_rest" if at_rest(doc) else
+                       "diverged" if unstable_even_at_the_guards_substeps(doc) else "halted")
     if err.strip():
         classes.append("stderr")
-    return classes or ["ok"], stats
+    return classes + alarms or ["ok"], stats
 
 
 def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
@@ -267,8 +398,9 @@ def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
     return h > 0.66 * math.sqrt(lightest / b.stiffness)
 
 
-def run_one(seed: int, index: int, frames: int, timeout: float, keep: Path | None) -> dict:
-    doc = random_scene(seed, index)
+def run_one(seed: int, index: int, frames: int, timeout: float, keep: Path | None,
+            budget: int = WORK_BUDGET, plain: bool = False) -> dict:
+    doc = random_scene(seed, index, budget, plain)
     text = to_toml(doc)
     with tempfile.TemporaryDirectory(prefix="cloth-fuzz-") as tmp:
         path = Path(tmp) / f"fuzz-{seed}-{index}.toml"
@@ -303,13 +435,20 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=180.0, help="seconds per scene")
     p.add_argument("--keep", type=Path, help="write the TOML of each failing scene here")
     p.add_argument("--json", action="store_true", help="one JSON object per scene on stdout")
+    p.add_argument("--budget", type=int, default=WORK_BUDGET,
+                   help="most particles × substeps × passes a frame may take")
+    p.add_argument("--plain", action="store_true",
+                   help="no [material], [[pins]], forced cylinders and tori or sheets at rest "
+                        "(the scenes the seed 1 and 23 results were drawn from)")
+    p.add_argument("--start", type=int, default=0, help="first scene index (to run in chunks)")
     args = p.parse_args(argv)
-    indices = [args.only] if args.only is not None else list(range(args.count))
+    indices = [args.only] if args.only is not None else \
+        list(range(args.start, args.start + args.count))
     counts: dict[str, int] = {}
     failures = []
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         results = pool.map(lambda i: run_one(args.seed, i, args.frames, args.timeout,
-                                             args.keep), indices)
+                                             args.keep, args.budget, args.plain), indices)
         for r in results:
             for c in r["classes"]:
                 counts[c] = counts.get(c, 0) + 1
