@@ -5,8 +5,10 @@ One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and 
     integrate    the force effects add to state.accel; integrate_verlet predicts
                  y = x + (1−D)·v·h + a·h² (xpbd's prediction)
     solve        from x = y, `iterations` L-BFGS steps on Φ(x) = |x − y|²_M/(2h²) + E(x):
-                 d = −H g (two loops over the last HISTORY pairs, H₀ = P⁻¹), x += t·d with t
-                 halved until Φ falls enough (Armijo); each edge's λ then holds its force
+                 d = −H g (two loops over the last HISTORY pairs, H₀ = P⁻¹, the pairs kept
+                 from substep to substep until P is refactored or a direction fails to
+                 descend), x += t·d with t halved until Φ falls enough (Armijo); each
+                 edge's λ then holds its force
     velocities   update_velocities: v ← (x − x_prev)/h
 Its minimum is implicit Euler's step on the material's own energy, so the sheet settles where
 the fabric's equilibrium is at any iteration count (a step that stops early stops at a lower
@@ -40,6 +42,10 @@ from .step_matrix import factor, step_matrix
 HISTORY = 5        # L-BFGS pairs kept: more buys little once P carries the low frequencies
 ARMIJO = 1e-4      # sufficient decrease of a line search step
 HALVINGS = 8       # a step halved this often without enough decrease ends the substep's solve
+# The pairs carry on into the next substep (the objective's Hessian changes little between
+# them): what P misses, the sheet's turning against its stiff springs, is learnt over
+# several substeps instead of anew in each one's few iterations.
+KEEP_HISTORY = True
 REFACTOR_AFTER_TEAR = 30  # substeps between refactorings while the sheet tears
 
 
@@ -96,6 +102,8 @@ class SolveImplicitStep:
         self._rho = np.zeros(HISTORY)
         self._alphas = np.zeros(HISTORY)
         self._h = None  # refactor
+        self._count = 0
+        self._order = np.zeros(HISTORY, np.int64)
         self._torn_factored = 0
         self._since_factor = 0
 
@@ -112,6 +120,7 @@ class SolveImplicitStep:
             return
         self.fixed = held_now
         self._h = h
+        self._count = 0
         self.mass_h2 = np.ascontiguousarray(m.mass / (h * h))
         self._lu = factor(step_matrix(m, self.k_edge * state.alive, self.k_sten, h, self.theta))
         self._torn_factored = state.torn
@@ -149,8 +158,7 @@ class SolveImplicitStep:
             y -= (1.0 - self.theta) * self._g_new / self.mass_h2[:, None]
         g, g_new, trial = self._g, self._g_new, self._trial
         phi = self.objective(x, y, alive, g, True, self.theta)
-        count = 0
-        order = np.zeros(HISTORY, np.int64)
+        count, order = self._count, self._order
         for _ in range(self.iterations):
             q = g.copy()
             first_loop(q, self._s, self._yh, self._rho, order, count, self._alphas)
@@ -192,6 +200,7 @@ class SolveImplicitStep:
             g, g_new = g_new, g
             phi = phi_new
         self._g, self._g_new = g, g_new
+        self._count = count if KEEP_HISTORY else 0
         m = self.model
         edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, h * h, self.lambdas)
 
