@@ -21,14 +21,14 @@ Crash safety: the stage lives in memory and is exported under a temp name beside
 and renamed over it every SAVE_INTERVAL_S of wall time (or SAVE_SHARE⁻¹ times as long as the
 last save took, when saves grow slow on a long bake) and at the end; each save is a whole
 stage with its end time at its last frame, so a SIGKILL leaves the frames of the last save,
-readable.
+readable. A temp file a SIGKILL left goes at the next bake to that name (part_files.py).
+When the disk fills, the file keeps its last save and the error says the disk is full.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import secrets
 import time
 from pathlib import Path
 
@@ -40,6 +40,7 @@ from ..sim.shapes.plane import quad
 from ..sim.surface import grid_uv, vertex_normals
 from .frames import BakedFrame, SheetFaces
 from .mesh_sequence import BakeIOError
+from .part_files import disk_full, part_path, remove_stale_parts
 
 USD_SUFFIXES = (".usd", ".usdc", ".usda")
 SAVE_INTERVAL_S = 1.0   # wall time between saves: what a SIGKILL can lose, at least
@@ -114,6 +115,8 @@ class UsdBakeWriter:
         self.last_frame = 0
         self._saved_at = time.monotonic()
         self._save_s = 0.0  # how long the last save took
+        self.saved_frames = 0  # frames in the file on disk
+        remove_stale_parts(self.path)
 
     # -- the still parts ------------------------------------------------------------------
     def _define_ground(self) -> None:
@@ -204,8 +207,7 @@ class UsdBakeWriter:
         """The whole stage, exported beside the target and renamed over it."""
         started = time.monotonic()
         self.stage.SetEndTimeCode(max(1, self.last_frame))
-        folder = self.path.parent if str(self.path.parent) else Path(".")
-        tmp = folder / f".{self.path.stem}.{secrets.token_hex(4)}.part{self.path.suffix}"
+        tmp = part_path(self.path)
         try:
             if not self.stage.GetRootLayer().Export(str(tmp)):
                 raise OSError(f"USD could not export {tmp}")
@@ -216,11 +218,17 @@ class UsdBakeWriter:
                 os.close(fd)
             os.replace(tmp, self.path)
         except Exception as e:  # pxr raises its own Tf.ErrorException
+            full = disk_full(tmp.parent)  # USD says only "Corrupt asset" when it is
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
             lines = str(e).strip().splitlines()
             reason = getattr(e, "strerror", None) or (lines[-1] if lines else type(e).__name__)
+            if full:
+                kept = (f"it keeps the {self.saved_frames} frames of its last save"
+                        if self.saved_frames else "nothing was saved")
+                reason = f"the disk is full ({kept})"
             raise BakeIOError(f"cannot write {self.path}: {reason}") from None
+        self.saved_frames = self.frames
         self._saved_at = time.monotonic()
         self._save_s = self._saved_at - started
 
