@@ -116,6 +116,7 @@ class UsdBakeWriter:
         self._saved_at = time.monotonic()
         self._save_s = 0.0  # how long the last save took
         self.saved_frames = 0  # frames in the file on disk
+        self._export_found_disk_full = False
         remove_stale_parts(self.path)
 
     # -- the still parts ------------------------------------------------------------------
@@ -204,12 +205,32 @@ class UsdBakeWriter:
 
     # -- saving ---------------------------------------------------------------------------
     def save(self) -> None:
-        """The whole stage, exported beside the target and renamed over it."""
+        """The whole stage, exported beside the target and renamed over it. On a full
+        disk, the first frames, as many as fit, before the error says so."""
         started = time.monotonic()
         self.stage.SetEndTimeCode(max(1, self.last_frame))
-        tmp = part_path(self.path)
         try:
-            if not self.stage.GetRootLayer().Export(str(tmp)):
+            self._export(self.stage.GetRootLayer())
+        except Exception as e:  # noqa: BLE001 - pxr raises its own Tf.ErrorException
+            lines = str(e).strip().splitlines()
+            reason = getattr(e, "strerror", None) or (lines[-1] if lines else type(e).__name__)
+            if self._export_found_disk_full:
+                self._save_what_fits()
+                kept = (f"it keeps the first {self.saved_frames} frames"
+                        if self.saved_frames else "nothing was saved")
+                reason = f"the disk is full ({kept})"  # USD says only "Corrupt asset"
+            raise BakeIOError(f"cannot write {self.path}: {reason}") from None
+        self.saved_frames = self.frames
+        self._saved_at = time.monotonic()
+        self._save_s = self._saved_at - started
+
+    def _export(self, layer) -> None:
+        """`layer` written under a temp name, synced and renamed over the target; on
+        failure the temp is removed and the target left as it was."""
+        tmp = part_path(self.path)
+        self._export_found_disk_full = False
+        try:
+            if not layer.Export(str(tmp)):
                 raise OSError(f"USD could not export {tmp}")
             fd = os.open(tmp, os.O_RDONLY)
             try:
@@ -217,20 +238,42 @@ class UsdBakeWriter:
             finally:
                 os.close(fd)
             os.replace(tmp, self.path)
-        except Exception as e:  # pxr raises its own Tf.ErrorException
-            full = disk_full(tmp.parent)  # USD says only "Corrupt asset" when it is
+        except BaseException:
+            self._export_found_disk_full = disk_full(tmp.parent)  # before the temp goes
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
-            lines = str(e).strip().splitlines()
-            reason = getattr(e, "strerror", None) or (lines[-1] if lines else type(e).__name__)
-            if full:
-                kept = (f"it keeps the {self.saved_frames} frames of its last save"
-                        if self.saved_frames else "nothing was saved")
-                reason = f"the disk is full ({kept})"
-            raise BakeIOError(f"cannot write {self.path}: {reason}") from None
-        self.saved_frames = self.frames
-        self._saved_at = time.monotonic()
-        self._save_s = self._saved_at - started
+            raise
+
+    def _save_what_fits(self) -> None:
+        """The most frames that fit beside the last save, found by halving: each try is
+        a copy of the stage without the frames after its last (the stage itself keeps
+        them all)."""
+        fits, too_many = self.saved_frames, self.frames
+        while too_many - fits > 1:
+            count = (fits + too_many) // 2
+            last = float((self.first_frame or 1) + count - 1)
+            trial = self.Sdf.Layer.CreateAnonymous(self.path.suffix)
+            trial.TransferContent(self.stage.GetRootLayer())
+            _drop_samples_after(trial, last)
+            trial.endTimeCode = last
+            try:
+                self._export(trial)
+            except Exception:  # noqa: BLE001 - as in save: this many do not fit either
+                too_many = count
+            else:
+                fits = count
+        self.saved_frames = fits
 
     def close(self) -> None:
         self.save()
+
+
+def _drop_samples_after(layer, last: float) -> None:
+    """Removes every time sample after `last` from `layer`."""
+    paths = []
+    layer.Traverse(layer.pseudoRoot.path, lambda path: paths.append(path)
+                   if path.IsPropertyPath() else None)
+    for path in paths:
+        for t in layer.ListTimeSamplesForPath(path):
+            if t > last:
+                layer.EraseTimeSample(path, t)
