@@ -3,8 +3,8 @@
 An edge along x (z) stands for a strip of sheet of width w and rest length L; at strain ε it
 must pull with the warp's (weft's) tension T(ε)·w (materials/measured.py). The solver keeps
 its distance constraints C = |x_b − x_a| − L and gives each edge, before each substep's passes,
-the secant compliance α = L/(w·S) with S = T(ε)/ε at the edge's strain now: at rest the
-constraint force S·w·ε is exactly the curve's tension, whatever the curve. The secant is
+the secant compliance α = L/(w·S) with S = T(ε)/ε at the edge's strain now: once the strain
+holds still, the constraint force S·w·ε is exactly the curve's tension, whatever the curve. The secant is
 relaxed towards its target geometrically, S ← √(S·S(ε)): under a steady load a plain secant
 update is a fixed-point iteration in log S whose factor, 1 − T′/S, reaches −1 where the
 tension grows as ε² (the knits past their zero-strain sample); the half step makes it
