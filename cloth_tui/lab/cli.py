@@ -156,13 +156,13 @@ def run_lab(args) -> int:
         finally:  # an error or Ctrl+C is said on a line of its own
             progress.end()
     if plot is not None:
-        plot_convergence(result, plot)
+        (experiment.plot or plot_convergence)(result, plot)
     if args.json:
         print(json.dumps(_num(result)))
     else:
         print(format_report(result))
         if plot is not None:
-            print(f"\nconvergence plot written to {plot}")
+            print(f"\n{'plot' if experiment.plot else 'convergence plot'} written to {plot}")
     return 0
 
 

@@ -16,6 +16,8 @@ import math
 import numpy as np
 
 from ..sim.tearing import remove_constraints
+from .drape_shadow import (boundary_particles, grid_coords, shadow_area,
+                           specimen_triangles)
 from .strips import strip_scene, timed_frames, warmed_simulation
 from .study import MATERIAL_SOLVERS, Case, Experiment, LabError, Measurement
 
@@ -29,6 +31,9 @@ CHECK_S = 0.5
 SETTLED_DC = 1e-3
 MAX_SETTLE_S = 10.0
 FOLD_DEPTH = 0.02        # a fold's crest stands 2 % of the radius (3 mm) above its troughs
+IMPERFECTION = 1e-3     # m: the flat specimen's largest departure from flat, at the rim
+IMPERFECTION_SEED = 5058
+REACH = 1.1 * SPECIMEN_RADIUS  # m: the raster's half side, past the specimen's widest corner
 ITERATIONS = 8
 SUBSTEPS = 20
 SETTLE_DAMPING = 3.0     # 1/s, the material's damping while it settles
@@ -36,31 +41,22 @@ SETTLE_DAMPING = 3.0     # 1/s, the material's damping while it settles
 
 def disc_masks(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """(inside, held, hem, h) on an n × n grid spanning the specimen's diameter, row-major:
-    the particles within the disc, those within the support, the disc's outermost ring
-    (within one spacing of its rim) and the spacing."""
-    h = 2 * SPECIMEN_RADIUS / (n - 1)
-    c = (np.arange(n) - (n - 1) / 2) * h
-    zz, xx = np.meshgrid(c, c, indexing="ij")
-    r = np.hypot(xx, zz).ravel()
-    inside = r <= SPECIMEN_RADIUS + 1e-9
-    return inside, r <= SUPPORT_RADIUS + 1e-9, inside & (r > SPECIMEN_RADIUS - h), h
+    the particles of the specimen's triangles (drape_shadow.specimen_triangles), those
+    within the support, the specimen's outline and the spacing."""
+    xz, h = grid_coords(n, SPECIMEN_RADIUS)
+    tri, _ = specimen_triangles(n, SPECIMEN_RADIUS)
+    inside = np.zeros(n * n, dtype=bool)
+    inside[tri.ravel()] = True
+    hem = np.zeros(n * n, dtype=bool)
+    hem[boundary_particles(tri)] = True
+    return inside, np.hypot(xz[:, 0], xz[:, 1]) <= SUPPORT_RADIUS + 1e-9, hem, h
 
 
 def hem_order(n: int, hem: np.ndarray) -> np.ndarray:
     """The hem's particle indices sorted by their angle on the flat disc."""
-    h = 2 * SPECIMEN_RADIUS / (n - 1)
+    xz, _ = grid_coords(n, SPECIMEN_RADIUS)
     idx = np.flatnonzero(hem)
-    i, j = np.divmod(idx, n)
-    angle = np.arctan2((i - (n - 1) / 2) * h, (j - (n - 1) / 2) * h)
-    return idx[np.argsort(angle)]
-
-
-def shadow_area(xz: np.ndarray) -> float:
-    """m²: the area inside the hem's projection, a closed polygon in the horizontal plane
-    (the shoelace formula); a rim whose folds stand out from the middle never crosses
-    itself there, so this is the shadow the meter's lamp casts."""
-    x, z = xz[:, 0], xz[:, 1]
-    return 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1))))
+    return idx[np.argsort(np.arctan2(xz[idx, 1], xz[idx, 0]))]
 
 
 def fold_count(kept: np.ndarray, depth: float = FOLD_DEPTH) -> int:
@@ -84,12 +80,31 @@ def fold_count(kept: np.ndarray, depth: float = FOLD_DEPTH) -> int:
     return folds
 
 
-def drape_coefficient(area: float, flat_area: float) -> float:
-    """(S − S_support)/(S_flat − S_support). S_flat is the same hem's shadow before the
-    drape: on the grid the hem's polygon falls short of the disc's π·R² (by 10 % at 25
-    particles across), and a specimen that did not drape must read 1 at every grid."""
-    support = math.pi * SUPPORT_RADIUS ** 2
-    return (area - support) / (flat_area - support)
+def drape_coefficient(area: float, flat_area: float, support_area: float) -> float:
+    """(S − S_support)/(S_flat − S_support), each area counted on the same raster (a
+    specimen that did not drape reads 1, a shadow no wider than the support 0)."""
+    return (area - support_area) / (flat_area - support_area)
+
+
+def imperfection(xz: np.ndarray) -> np.ndarray:
+    """m: the specimen's departure from flat, up or down, at the flat positions `xz`: zero
+    on the support, growing as the square of the distance from it to at most IMPERFECTION
+    at the rim (and no more beyond, where a corner of the staircase stands out), around the
+    rim a fixed mix of the modes 2 to 12 with seeded phases. A fabric is never flat;
+    without this the fall's symmetry is broken by the grid's own pattern, a different one
+    at every resolution, and the folds (and the coefficient with them) follow it. The same
+    function of the flat disc at every resolution lets the mechanics choose the folds
+    alike on every grid."""
+    rng = np.random.default_rng(IMPERFECTION_SEED)
+    modes = np.arange(2, 13)
+    phases = rng.uniform(0, 2 * np.pi, len(modes))
+    theta = np.arctan2(xz[:, 1], xz[:, 0])
+    around = np.cos(np.outer(theta, modes) + phases).sum(axis=1)
+    t = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    around /= np.abs(np.cos(np.outer(t, modes) + phases).sum(axis=1)).max()
+    s = np.clip((np.hypot(xz[:, 0], xz[:, 1]) - SUPPORT_RADIUS)
+                / (SPECIMEN_RADIUS - SUPPORT_RADIUS), 0.0, 1.0)
+    return IMPERFECTION * s * s * around
 
 
 def _materials(material) -> list:
@@ -110,36 +125,49 @@ def specimen_pins(n: int) -> list[dict]:
 
 
 def settle_disc(scene, n: int) -> dict:
-    """Cuts the disc out of `scene`'s n × n sheet (pinned by specimen_pins), lets it settle
-    (the drape coefficient still to SETTLED_DC over CHECK_S) and measures its hem: the
-    drape coefficient, folds and shadow."""
+    """Cuts the disc out of `scene`'s n × n sheet (pinned by specimen_pins), lifts it by
+    the imperfection, lets it settle (the drape coefficient still to SETTLED_DC over
+    CHECK_S) and measures its shadow: the drape coefficient, the folds of its hem, and the
+    projected specimen (`xz`, `triangles`) for a picture."""
     inside, held, hem, h = disc_masks(n)
+    tri, _ = specimen_triangles(n, SPECIMEN_RADIUS)
     order = hem_order(n, hem)
     sim = warmed_simulation(scene)
-    flat = _hem_xz(sim.state.x, held, order)
-    flat_area = shadow_area(flat)
-    flat_radius = np.hypot(flat[:, 0], flat[:, 1])
+    flat = _plan(sim.state.x, held)
+    flat_radius = np.hypot(flat[order, 0], flat[order, 1])
+    support = shadow_area(flat[:0], tri[:0], SUPPORT_RADIUS, REACH)
+    flat_area = shadow_area(flat, tri, SUPPORT_RADIUS, REACH)
     cut_loose(sim, ~inside)
+    lift = imperfection(flat)
+    for x in (sim.state.x, sim.state.x_prev):
+        x[:, 1] += lift
+
+    def coefficient() -> tuple[float, np.ndarray]:
+        xz = _plan(sim.state.x, held)
+        if not np.isfinite(xz[inside]).all():
+            raise LabError(f"the drape diverged at {n} particles across")
+        return drape_coefficient(shadow_area(xz, tri, SUPPORT_RADIUS, REACH), flat_area,
+                                 support), xz
+
     rate = scene.behavior.frame_rate
     wall = timed_frames(sim, math.ceil(MIN_SETTLE_S * rate))
-    dc = drape_coefficient(shadow_area(_hem_xz(sim.state.x, held, order)), flat_area)
+    dc, xz = coefficient()
     while True:
         wall += timed_frames(sim, math.ceil(CHECK_S * rate))
-        last, xz = dc, _hem_xz(sim.state.x, held, order)
-        dc = drape_coefficient(shadow_area(xz), flat_area)
-        if not np.isfinite(xz).all():
-            raise LabError(f"the drape diverged at {n} particles across")
+        last = dc
+        dc, xz = coefficient()
         if abs(dc - last) < SETTLED_DC or sim.state.t >= MAX_SETTLE_S:
             break
-    kept = np.hypot(xz[:, 0], xz[:, 1]) / flat_radius
+    kept = np.hypot(xz[order, 0], xz[order, 1]) / flat_radius
     return {"drape_coefficient": dc, "folds": fold_count(kept),
-            "shadow_cm2": shadow_area(xz) * 1e4, "settled_s": sim.state.t,
-            "still_moving": abs(dc - last), "wall_s": wall, "state": sim.state}
+            "shadow_cm2": shadow_area(xz, tri, SUPPORT_RADIUS, REACH) * 1e4,
+            "settled_s": sim.state.t, "still_moving": abs(dc - last), "wall_s": wall,
+            "state": sim.state, "xz": xz, "triangles": tri, "flat_area_cm2": flat_area * 1e4}
 
 
-def _hem_xz(x: np.ndarray, held: np.ndarray, order: np.ndarray) -> np.ndarray:
-    """The hem's horizontal positions from the support's middle, in order around it."""
-    return x[order][:, [0, 2]] - x[held].mean(axis=0)[[0, 2]]
+def _plan(x: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """Every particle's horizontal position from the support's middle."""
+    return x[:, [0, 2]] - x[held].mean(axis=0)[[0, 2]]
 
 
 def _measure(case: Case, n: int, material, solver: str) -> Measurement:
@@ -152,8 +180,16 @@ def _measure(case: Case, n: int, material, solver: str) -> Measurement:
                                   "substeps": SUBSTEPS},
                         material_section=material_table(m, SETTLE_DAMPING))
     r = settle_disc(scene, n)
-    return Measurement(r["drape_coefficient"], {k: r[k] for k in ("wall_s", "folds",
-                                                                  "shadow_cm2", "settled_s")})
+    outline = r["xz"][hem_order(n, disc_masks(n)[2])]
+    return Measurement(r["drape_coefficient"],
+                       {k: r[k] for k in ("wall_s", "folds", "shadow_cm2", "settled_s")}
+                       | {"outline": np.round(outline, 5).tolist()})
+
+
+def _plot(result: dict, path) -> None:
+    """--plot: the shadows from above beside the coefficient (drape_plot)."""
+    from .drape_plot import plot_drape
+    plot_drape(result, path)
 
 
 def cut_loose(sim, outside: np.ndarray) -> None:
@@ -171,7 +207,7 @@ DRAPE = Experiment(
     quantity="drape coefficient", unit="",
     resolution_meaning="particles across the disc",
     default_resolutions=(25, 41), min_resolution=11, tolerance=None,
-    cases=_cases, measure=_measure, solvers=MATERIAL_SOLVERS,
+    cases=_cases, measure=_measure, solvers=MATERIAL_SOLVERS, plot=_plot,
     setup=f"{{solver}} with the material, {ITERATIONS} iterations, {SUBSTEPS} substeps, "
           f"damping {SETTLE_DAMPING:g}/s, settled until the coefficient moves < "
           f"{SETTLED_DC:g} per {CHECK_S:g} s (≥ {MIN_SETTLE_S:g} s); folds at least "

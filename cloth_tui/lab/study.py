@@ -50,6 +50,7 @@ class Experiment:
     measure: Callable             # (case, resolution, material | None, solver) -> Measurement
     setup: str = ""               # the solver settings, said in the report ({solver} filled in)
     solvers: tuple[str, ...] = ()  # the solvers it can run (the first its own); () if fixed
+    plot: Callable | None = None  # (result, path): its own --plot; None: the convergence plot
 
 
 def parse_resolutions(text: str, experiment: Experiment) -> list[int]:
