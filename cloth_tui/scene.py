@@ -103,7 +103,8 @@ def _nearest_spacing_count(side: float, spacing: float) -> int:
 
 @dataclass
 class Forces:
-    integrate: bool = key(True, "advance the simulation (off freezes the sheet, as in the original)")
+    integrate: bool = key(True, "advance the simulation (off freezes the sheet, as in the "
+                                "original)")
     gravity: bool = key(True, "apply gravity")
     gravity_strength: float = key(9.81, "gravitational acceleration, downward (−y)", unit="m/s²",
                                   lo=0.0, hi=1e4)

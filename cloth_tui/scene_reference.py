@@ -9,6 +9,12 @@ from .materials.values import KEYS, describe
 from .pin_groups import ALLOWED, PinGroup
 from .scene import SECTION_TYPES, SECTIONS, SceneObject, describe_allowed
 from .scene_files import toml_value
+from .sim.solvers.registry import DEFAULT as DEFAULT_SOLVER
+from .sim.solvers.registry import names as solver_names
+
+
+def material_solvers() -> tuple[str, ...]:
+    return solver_names(takes_material=True)
 
 
 def reference_markdown() -> str:
@@ -30,9 +36,11 @@ def reference_markdown() -> str:
     rows += [_reference_row(f, ALLOWED[f.name]) for f in dataclasses.fields(PinGroup)]
     rows += ["\n### [material]\n",
              "The fabric in SI units (see [Materials in SI units]"
-             "(physics.md#materials-in-si-units--material); it needs `behavior.solver = "
-             "\"hpbd\"`, the default, or `\"xpbd\"`). `material = \"original\"`, or no section, keeps the original's "
-             "unitless keys. Without `preset`, areal_density, stretch, shear and bending are "
+             "(physics.md#materials-in-si-units--material); it needs a `behavior.solver` that "
+             "takes one: " + ", ".join(f'`"{name}"`' for name in material_solvers())
+             + f" (the default is `\"{DEFAULT_SOLVER}\"`)). `material = \"original\"`, or no "
+             "section, keeps the original's unitless keys. Without `preset`, areal_density, "
+             "stretch, shear and bending are "
              "all needed; with it, the keys given override the preset's.\n",
              "| key | default | unit | allowed | meaning |", "|---|---|---|---|---|",
              f"| `preset` | (none) |  | a name of the measured-fabric table "

@@ -1,10 +1,10 @@
 """`cloth-tui serve`: the app in a web browser, through Textual's own web server
 (textual-serve, the optional `[serve]` extra).
 
-The server runs no simulation itself: each browser that opens the page gets its own app
-process (`python -m cloth_tui.served_app SCENE …`), whose screen and keys travel over a
-websocket. In there the preview draws in half-block cells (graphics/detect.py sees the web driver) and every
-capture is also handed to the browser as a download (capture_actions.py).
+The server runs no simulation itself: each browser that opens the page gets its own app process
+(`python -m cloth_tui.served_app SCENE …`), whose screen and keys travel over a websocket. In there
+the preview draws in half-block cells (graphics/detect.py sees the web driver) and every capture is
+also handed to the browser as a download (capture_actions.py).
 """
 
 from __future__ import annotations

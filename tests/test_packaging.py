@@ -52,7 +52,8 @@ def test_installed_wheel_finds_its_scenes_outside_the_checkout(wheel, tmp_path):
     site = tmp_path / "site"
     zipfile.ZipFile(wheel).extractall(site)
     code = ("import cloth_tui, cloth_tui.resources as r, cloth_tui.scene_files as s; "
-            "print(cloth_tui.__file__); print(r.assets_dir()); print(' '.join(r.builtin_scenes())); "
+            "print(cloth_tui.__file__); print(r.assets_dir()); "
+            "print(' '.join(r.builtin_scenes())); "
             "print(s.load('default').cloth.resolution); "
             "import os; print(os.path.isfile(s.load('torus-drape').objects[0].path))")
     env = dict(os.environ, PYTHONPATH=str(site))

@@ -208,7 +208,8 @@ STOP_ROUNDS = [(signal.SIGTERM, "blocks truecolor"), (signal.SIGTERM, None),
 
 
 def test_stopping_the_server_with_two_visitors_ends_their_apps_quietly(tmp_path):
-    """SIGTERM with two apps running; SIGTERM, then SIGINT, while they start up. The race that printed "Event loop is closed" (the server's loop closed before
+    """SIGTERM with two apps running; SIGTERM, then SIGINT, while they start up. The race that
+    printed "Event loop is closed" (the server's loop closed before
     its apps had exited) came in a few runs out of twenty: the slow test below repeats."""
     async def go():
         for sig, shown in STOP_ROUNDS:

@@ -135,7 +135,8 @@ def format_report(r: dict) -> str:
     sg = r["sag"]
     out += ["", f"Settled sag (m) of the centre, sheet pinned at 4 corners, dt = {sg['dt']:.3g} s,"
                 f" {sg['t_end']} s settling (xpbd α = {sg['compliance']:g} m/N):",
-            f"{'iterations':<12}" + "".join(f"{i:>10}" for i in sg["iterations"]) + f"{'spread':>10}"]
+            f"{'iterations':<12}" + "".join(f"{i:>10}" for i in sg["iterations"])
+            + f"{'spread':>10}"]
     for solver in sg["sag"]:
         out.append(f"{solver:<12}" + "".join(f"{sg['sag'][solver][str(i)]:>10.4f}"
                                              for i in sg["iterations"])

@@ -63,5 +63,5 @@ class SerialStep:
     def substep(self, state) -> None:
         m = self.model
         serial_substep(state.x, state.x_prev, state.v, m.inv_mass, m.edges, m.rest_length,
-                       state.alive, m.color_offsets, self.lam, m.pinned, state.anchors, self.h, self.keep,
-                       self.gravity, self.max_speed, self.iterations)
+                       state.alive, m.color_offsets, self.lam, m.pinned, state.anchors, self.h,
+                       self.keep, self.gravity, self.max_speed, self.iterations)

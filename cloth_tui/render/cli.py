@@ -1,9 +1,9 @@
 """`cloth-tui render SCENE -o OUT.png|OUT.mp4|OUT.gif`: simulate headless and draw.
 
-PNG: the last of `--frames` frames (default: 2 s of simulated time, 2·frame_rate frames, so
-the sheet has settled). MP4/GIF: every frame (default 90); a GIF at most capture.GIF_MAX_PIXELS pixels over all frames.
-SIGINT/SIGTERM finish the video properly (playable file, final name) and exit 130/143.
-A bake (SCENE.usd/.usdc/.usda) is drawn from its frames, without simulating: see replay.py.
+PNG: the last of `--frames` frames (default: 2 s of simulated time, 2·frame_rate frames, so the
+sheet has settled). MP4/GIF: every frame (default 90); a GIF at most capture.GIF_MAX_PIXELS pixels
+over all frames. SIGINT/SIGTERM finish the video properly (playable file, final name) and exit
+130/143. A bake (SCENE.usd/.usdc/.usda) is drawn from its frames, without simulating: see replay.py.
 """
 
 from __future__ import annotations

@@ -293,8 +293,9 @@ class Renderer:
             mesh.Modified()
 
     def _good_positions(self, snapshot) -> np.ndarray:
-        """The snapshot's positions if all finite (and sane); otherwise the last good ones (or the rest
-        shape): NaN or inf must never reach VTK, whose bounds and clipping would go wild."""
+        """The snapshot's positions if all finite (and sane); otherwise the last good ones (or
+        the rest shape): NaN or inf must never reach VTK, whose bounds and clipping would go
+        wild."""
         x = np.asarray(snapshot.positions, dtype=np.float64)
         n = snapshot.model.num_particles
         if x.shape == (n, 3) and drawable(x, 1e6):

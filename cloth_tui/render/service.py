@@ -344,7 +344,8 @@ class RenderService:
         self._renderer.resize(*self._size)
         if video.frames == 0:  # nothing was drawn while recording: no empty file
             video.discard()
-            self._emit(CaptureKind.VIDEO_EMPTY, None, "nothing was drawn while recording; no video saved")
+            self._emit(CaptureKind.VIDEO_EMPTY, None,
+                       "nothing was drawn while recording; no video saved")
             return
         try:
             path = video.close()

@@ -208,10 +208,10 @@ def _match_slots(slot_a: np.ndarray, slot_b: np.ndarray, edges: np.ndarray,
 
 @kernel(inline="always")
 def coincident_direction(a, b):
-    """The separation (length COINCIDENT) given to constraint a–b when its ends coincide and
-    have no direction of their own: any fixed, pair-dependent direction will do, so a crushed
-    sheet unfolds instead of staying collapsed. One rule for the plain loop (xpbd/constraints.py) and the
-    sweeps, so both unfold a sheet the same way."""
+    """The separation (length COINCIDENT) given to constraint a–b when its ends coincide and have no
+    direction of their own: any fixed, pair-dependent direction will do, so a crushed sheet unfolds
+    instead of staying collapsed. One rule for the plain loop (xpbd/constraints.py) and the sweeps,
+    so both unfold a sheet the same way."""
     dx = math.sin(1.3 * a + 7.1 * b)
     dy = math.cos(3.7 * a - 1.9 * b)
     dz = math.sin(2.3 * a + 0.7 * b + 1.0)
@@ -290,8 +290,8 @@ def _run_compliant(xa, ya, za, xb, yb, zb, wa_run, wb_run, rest, alive, lam, alp
 def _crushed_pair(xa, ya, za, wa_run, xb, yb, zb, wb_run, t, rest, alive, lam, alpha_t,
                   keeps_lambda, a, b):
     """The pairs `_pair` left: ends (particles a and b) closer than COINCIDENT separate along
-    xpbd/constraints.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as with the
-    plain loop. Pairs of one colour share no particle, so doing these after the rest of
+    xpbd/constraints.py's fixed, pair-dependent direction, so a crushed sheet unfolds exactly as
+    with the plain loop. Pairs of one colour share no particle, so doing these after the rest of
     their chunk changes nothing."""
     wa = wa_run[t]
     wb = wb_run[t]

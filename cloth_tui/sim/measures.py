@@ -1,9 +1,9 @@
 """What is reported about a state: stretch and energy, for the runner, the app and the
 accuracy study alike.
 
-Stretch of a constraint is |L/L0 − 1|. Torn constraints (state.alive == 0, tearing.py) are
-left out of every measure: they hold no energy and their length is a gap, not a stretch. Energy is kinetic + gravitational (height from y = 0)
-+ elastic, the elastic part from the solver's own force estimate:
+Stretch of a constraint is |L/L0 − 1|. Torn constraints (state.alive == 0, tearing.py) are left out
+of every measure: they hold no energy and their length is a gap, not a stretch. Energy is kinetic +
+gravitational (height from y = 0) + elastic, the elastic part from the solver's own force estimate:
 
     springs  ½ k (L − L0)² per spring (the force the integrator uses)
     xpbd     ½ α f² per constraint with f = λ/h², λ the multiplier of the last substep

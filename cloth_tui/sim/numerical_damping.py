@@ -5,13 +5,13 @@ A frame's numerical damping is
 
     d = (E_start − E_end − asked) / (F_start · Δt)      (1/s)
 
-with E the sheet's energy (measures.energy: kinetic, gravitational and the solver's own
-estimate of the elastic, a material's every constraint family included), `asked` the kinetic
-energy the damping key took (behavior.damping, or a material's own rate, which replaces it), F_start the free energy at the frame's start (its
-energy above the lowest it could reach, measures.free_energy) and Δt the frame's length. It
-is measured only where nothing else moves energy in or out (`measurable`, `touching`); the
-runner's substep control bounds its mean (substep_control.py) and the report is a running
-average (`DampingMeter`). Plain Python over the compiled measures.
+with E the sheet's energy (measures.energy: kinetic, gravitational and the solver's own estimate of
+the elastic, a material's every constraint family included), `asked` the kinetic energy the damping
+key took (behavior.damping, or a material's own rate, which replaces it), F_start the free energy at
+the frame's start (its energy above the lowest it could reach, measures.free_energy) and Δt the
+frame's length. It is measured only where nothing else moves energy in or out (`measurable`,
+`touching`); the runner's substep control bounds its mean (substep_control.py) and the report is a
+running average (`DampingMeter`). Plain Python over the compiled measures.
 """
 
 from __future__ import annotations

@@ -1,14 +1,14 @@
 """The values a step's stages read every substep: the forces' strengths, friction, damping
 and the solver's numbers (as Warp's `model.gravity` and `Control`).
 
-A step (pipeline.build) holds one StepParams and its stages read it when they run, so a
-change of these values is an assignment (`assign`) that the next substep sees; the masses
-(cloth.mass, a material's density) and a material's α per constraint are the model's
-numbers, refitted in place (model.refitted, Step.retune). Nothing is rebuilt, and the
-adaptive substeps, the kernels' thread choice and the divergence guard go on. What a step *is* (which stages run, on which particles and constraints) is the scene's
-structure: the scene with every parameter reduced to what decides whether its stage
-exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no wind stage). Two scenes of
-the same structure (`same_structure`) run the same stages, so only a change of structure
+A step (pipeline.build) holds one StepParams and its stages read it when they run, so a change of
+these values is an assignment (`assign`) that the next substep sees; the masses (cloth.mass, a
+material's density) and a material's α per constraint are the model's numbers, refitted in place
+(model.refitted, Step.retune). Nothing is rebuilt, and the adaptive substeps, the kernels' thread
+choice and the divergence guard go on. What a step *is* (which stages run, on which particles and
+constraints) is the scene's structure: the scene with every parameter reduced to what decides
+whether its stage exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no wind stage). Two
+scenes of the same structure (`same_structure`) run the same stages, so only a change of structure
 rebuilds the step.
 """
 

@@ -1,15 +1,14 @@
 """A measured fabric's stretch that stiffens with strain, on the model's structural edges.
 
-An edge along x (z) stands for a strip of sheet of width w and rest length L; at strain ε it
-must pull with the warp's (weft's) tension T(ε)·w (materials/measured.py). The solver keeps
-its distance constraints C = |x_b − x_a| − L and gives each edge, before each substep's passes,
-the secant compliance α = L/(w·S) with S = T(ε)/ε at the edge's strain now: once the strain
-holds still, the constraint force S·w·ε is exactly the curve's tension, whatever the curve. The secant is
-relaxed towards its target geometrically, S ← √(S·S(ε)): under a steady load a plain secant
-update is a fixed-point iteration in log S whose factor, 1 − T′/S, reaches −1 where the
-tension grows as ε² (the knits past their zero-strain sample); the half step makes it
-1 − T′/(2S), inside (−1, 1) for any tension that grows slower than ε⁴ (docs/physics.md,
-"Measured fabrics: stiffening and direction").
+An edge along x (z) stands for a strip of sheet of width w and rest length L; at strain ε it must
+pull with the warp's (weft's) tension T(ε)·w (materials/measured.py). The solver keeps its distance
+constraints C = |x_b − x_a| − L and gives each edge, before each substep's passes, the secant
+compliance α = L/(w·S) with S = T(ε)/ε at the edge's strain now: once the strain holds still, the
+constraint force S·w·ε is exactly the curve's tension, whatever the curve. The secant is relaxed
+towards its target geometrically, S ← √(S·S(ε)): under a steady load a plain secant update is a
+fixed-point iteration in log S whose factor, 1 − T′/S, reaches −1 where the tension grows as ε² (the
+knits past their zero-strain sample); the half step makes it 1 − T′/(2S), inside (−1, 1) for any
+tension that grows slower than ε⁴ (docs/physics.md, "Measured fabrics: stiffening and direction").
 """
 
 from __future__ import annotations

@@ -1,11 +1,11 @@
 """Tearing: constraints that break, by their load or by a cut, and leave the solve for good.
 
-The model's constraints do not change; the state keeps which are intact (`state.alive`, 1 or
-0 per constraint in model.edges order) and how many are broken (`state.torn`, counted by
-`_record_breaks` alone). Every solver skips a broken constraint (xpbd/constraints.py, springs/integrators.py,
-springs/implicit_euler.py), the measures leave it out (measures.py), a material's shear cells and bending
-stencils across a broken edge leave with it (xpbd/fabric_constraints.py), and the renderer drops the
-triangles that lost an edge (`intact_triangles`).
+The model's constraints do not change; the state keeps which are intact (`state.alive`, 1 or 0 per
+constraint in model.edges order) and how many are broken (`state.torn`, counted by `_record_breaks`
+alone). Every solver skips a broken constraint (xpbd/constraints.py, springs/integrators.py,
+springs/implicit_euler.py), the measures leave it out (measures.py), a material's shear cells and
+bending stencils across a broken edge leave with it (xpbd/fabric_constraints.py), and the renderer
+drops the triangles that lost an edge (`intact_triangles`).
 
 Break criterion, checked once per substep after the constraint solve, in tension only:
 

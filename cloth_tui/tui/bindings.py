@@ -10,7 +10,8 @@ ORBIT_DEG = 10.0
 ZOOM_STEP = 1.25
 VIEW_SPAN = 2.5  # rough height of the default view, in cloth sizes (for mouse drags)
 # Actions a focused text field or open dropdown keeps for itself (it needs those keys).
-TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake", "save_scene",
+TEXT_KEYS_ACTIONS = {"quit", "pause", "restart", "toggle", "screenshot", "video", "bake",
+                     "save_scene",
                      "toggle_controls", "bump", "crosshair", "orbit", "zoom", "reset_camera",
                      "one_thread", "help", "pin"}
 # Actions whose key a focused control (switch, button, dropdown, group title) acts on.

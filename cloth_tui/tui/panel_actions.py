@@ -1,6 +1,6 @@
-"""What the control panels, the help and the layout ask of the app: a field edited, the
-objects or pin groups changed, a panel button, the controls drawer, the help screen, and a digit typed with
-no field focused. A mixin of `ClothApp`, which owns the scene and applies it."""
+"""What the control panels, the help and the layout ask of the app: a field edited, the objects or
+pin groups changed, a panel button, the controls drawer, the help screen, and a digit typed with no
+field focused. A mixin of `ClothApp`, which owns the scene and applies it."""
 
 from __future__ import annotations
 

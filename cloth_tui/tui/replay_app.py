@@ -126,7 +126,8 @@ class ReplayApp(ClothApp, inherit_bindings=False):
         ]
         if self._no_preview is not None:
             parts.insert(0, "[b white on red] no preview [/]")
-        cost = (f"replay of {escape(escape_controls(p.bake.path.name))} · render {self.readout.render_ms:5.1f} ms · "
+        name = escape(escape_controls(p.bake.path.name))
+        cost = (f"replay of {name} · render {self.readout.render_ms:5.1f} ms · "
                 f"space play/pause · ←→ step · Home/End · click or drag the timeline")
         for bar in self.query(StatusBar):  # none while the app is closing
             bar.show((" · ".join(parts), cost), [0.0])

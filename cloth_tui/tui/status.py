@@ -1,6 +1,6 @@
-"""The status line: rates, step cost, stretch and energy, the material, the error tolerance
-and what it costs, the numerical damping, a sparkline of ms per frame and the recording mark. `Readout` is plain Python (no
-Textual) so the numbers are testable alone."""
+"""The status line: rates, step cost, stretch and energy, the material, the error tolerance and what
+it costs, the numerical damping, a sparkline of ms per frame and the recording mark. `Readout` is
+plain Python (no Textual) so the numbers are testable alone."""
 
 from __future__ import annotations
 

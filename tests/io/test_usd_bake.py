@@ -55,7 +55,8 @@ def test_sphere_bake_reads_back_as_the_simulation(tmp_path):
     assert st.GetInterpolation() == UsdGeom.Tokens.vertex and len(st.Get()) == n * n
 
     sphere = UsdGeom.Sphere.Get(stage, "/World/Objects/Object_0/Shape")
-    assert sphere and sphere.GetRadiusAttr().Get() == pytest.approx(poses[0][0].parameters["radius"])
+    radius = poses[0][0].parameters["radius"]
+    assert sphere and sphere.GetRadiusAttr().Get() == pytest.approx(radius)
     centre = UsdGeom.Xformable(sphere.GetPrim()).ComputeLocalToWorldTransform(1.0)
     np.testing.assert_allclose(centre.ExtractTranslation(), poses[0][0].center)
     ground = UsdGeom.Mesh.Get(stage, "/World/Ground")

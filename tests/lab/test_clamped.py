@@ -33,7 +33,7 @@ def test_the_cantilever_cases_are_the_elasticas():
 def elastica_chord(bending, density):
     """The chord angle a strip of rigidity `bending` shows at overhang O: the exact answer
     a perfect simulator would give."""
-    return lambda O: cantilever(density * 9.81 * O ** 3 / bending).chord_angle
+    return lambda overhang: cantilever(density * 9.81 * overhang ** 3 / bending).chord_angle
 
 
 @pytest.mark.parametrize("preset", clamped.PEIRCE_PRESETS)
@@ -59,4 +59,4 @@ def test_the_peirce_search_follows_a_stiffer_strip():
 
 def test_a_search_that_cannot_reach_the_angle_says_so():
     with pytest.raises(LabError, match="no overhang found for 41.5°"):
-        clamped.peirce_search(lambda O: math.radians(10), 0.03)
+        clamped.peirce_search(lambda overhang: math.radians(10), 0.03)

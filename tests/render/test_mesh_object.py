@@ -26,7 +26,8 @@ def test_a_mesh_object_is_drawn_from_its_triangles(renderer):
     with_torus = renderer.render(draped(scene, sag=0.05, objects=(pose,))).copy()
     assert np.abs(with_torus.astype(int) - without).mean() > 0.3
     # the same place with a sphere's triangles looks like the analytic sphere, not the torus
-    ball = surface(pv.Sphere(radius=SPHERE.parameters["radius"], theta_resolution=40, phi_resolution=24),
+    ball = surface(pv.Sphere(radius=SPHERE.parameters["radius"], theta_resolution=40,
+                             phi_resolution=24),
                    "ball")
     as_mesh = renderer.render(draped(scene, sag=0.05, objects=(ObjectPose(
         "mesh", {"surface": ball}, SPHERE.center),))).copy()

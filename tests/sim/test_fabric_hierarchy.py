@@ -1,6 +1,6 @@
 """hpbd with a material: the coarse corrections of the structural edges' λ
-(sim/solvers/hpbd/multiplier_levels.py) solve XPBD's own system on a subspace, so they leave a converged
-step as it is and speed up the rest; the sheet ends where converged xpbd puts it."""
+(sim/solvers/hpbd/multiplier_levels.py) solve XPBD's own system on a subspace, so they leave a
+converged step as it is and speed up the rest; the sheet ends where converged xpbd puts it."""
 
 import numpy as np
 import pytest

@@ -112,7 +112,8 @@ def test_an_orbiting_mesh_carries_its_grid_along(sphere_stl):
     s = mesh_scene(sphere_stl, center=[0.0, -0.25, 0.0], motion="orbit")
     sim = Simulation(s)
     run(sim, 30)
-    (mesh,) = [c for c in sim.step.colliders if isinstance(c, ShapeCollider) and c.shape.name == "mesh"]
+    (mesh,) = [c for c in sim.step.colliders
+               if isinstance(c, ShapeCollider) and c.shape.name == "mesh"]
     c = mesh.center_at(sim.state.t)
     assert not np.allclose(c, [0.0, -0.25, 0.0])
     top = c + [0.0, 0.25, 0.0]

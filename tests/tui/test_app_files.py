@@ -41,8 +41,8 @@ def test_texture_notice_and_empty_recording_are_shown(tmp_path):
     async def go():
         app = make_app(tmp_path)
         async with app.run_test(size=SIZE) as pilot:
-            app.renderer._event(CaptureEvent(CaptureKind.NOTICE, None, "texture cut.png: truncated; "
-                                             "drawn without it"))
+            app.renderer._event(CaptureEvent(CaptureKind.NOTICE, None,
+                                             "texture cut.png: truncated; drawn without it"))
             app.renderer._event(CaptureEvent(CaptureKind.VIDEO_EMPTY, None, "nothing was drawn"))
             await until(pilot, lambda: len(notifications(app)) >= 2)
             shown = notifications(app)

@@ -70,7 +70,8 @@ def test_frames_are_written_at_the_preview_cell_with_the_cells_pixel_size(tmp_pa
         assert len(np.unique(image.reshape(-1, 3), axis=0)) >= 3  # fog, cloth, crosshair
         place = [dict(kv.split("=") for kv in k.split(",")) for k, _ in chunks if "a=p" in k]
         assert (int(place[0]["c"]), int(place[0]["r"])) == (region.width, region.height)
-        assert (place[0]["x"], place[0]["y"], place[0]["w"], place[0]["h"]) == ("0", "0", str(w), str(h))
+        where = (place[0]["x"], place[0]["y"], place[0]["w"], place[0]["h"])
+        assert where == ("0", "0", str(w), str(h))
         assert at_top_left + "\x1b_Ga=p" in frame
     else:
         assert at_top_left + f'\x1bP0;1;0q"1;1;{w};{h}' in frame

@@ -60,9 +60,9 @@ def object_keys() -> list[tuple[str, str, dataclasses.Field]]:
     for name, (declaration, users) in seen.items():
         meta = dict(declaration.metadata)
         meta["doc"] = f"{', '.join(users)}: {meta['doc']}"
-        out.append((name, type(base.default_of(declaration)).__name__, dataclasses.field(default=declaration.default,
-                                            default_factory=declaration.default_factory,
-                                            metadata=meta)))
+        field = dataclasses.field(default=declaration.default,
+                                  default_factory=declaration.default_factory, metadata=meta)
+        out.append((name, type(base.default_of(declaration)).__name__, field))
     return out
 
 

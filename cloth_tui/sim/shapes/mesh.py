@@ -109,8 +109,10 @@ class Mesh(Shape):
     def read_usd(self, prim) -> dict:
         """The triangles of the object's Shape mesh, checked (a bake is user input)."""
         shape = prim.GetChild("Shape")
-        attr = (lambda name: shape.GetAttribute(name).Get()
-                if shape and shape.GetAttribute(name) else None)
+
+        def attr(name):
+            return shape.GetAttribute(name).Get() if shape and shape.GetAttribute(name) else None
+
         try:
             vertices = np.asarray(attr("points"), dtype=np.float64)
             counts = np.asarray(attr("faceVertexCounts"), dtype=np.int64)

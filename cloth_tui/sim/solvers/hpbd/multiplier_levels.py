@@ -154,12 +154,12 @@ def coarse_correction(x, inv_mass, edges, rest, alive, alpha_t, lam, edge_slot, 
                       aggregate, term_particle, term_i, term_j, term_sign, term_entry,
                       term_entry_t, diag_entry, assemble, row_off, ptr_off, entry_off, ptr,
                       col, val, diag, rhs, sol, parent, entry_map, pre, post, coarsest):
-    """One correction, all in one call (the levels' arrays concatenated, level k's rows
-    [row_off[k], row_off[k+1]), its CSR row pointers [ptr_off[k], ptr_off[k+1]) and entries
-    [entry_off[k], entry_off[k+1]), indices local to the level; `parent` and `entry_map` give
-    a row's and an entry's place on the next level): with `assemble`, PᵀAP at the positions
-    now (else the last one's); restrict r, a V-cycle from 0 (`pre` and `post` sweeps a
-    level, `coarsest` on the last), then λ and x. One kernel call for the whole cycle, not one a level and sweep."""
+    """One correction, all in one call (the levels' arrays concatenated, level k's rows [row_off[k],
+    row_off[k+1]), its CSR row pointers [ptr_off[k], ptr_off[k+1]) and entries [entry_off[k],
+    entry_off[k+1]), indices local to the level; `parent` and `entry_map` give a row's and an
+    entry's place on the next level): with `assemble`, PᵀAP at the positions now (else the last
+    one's); restrict r, a V-cycle from 0 (`pre` and `post` sweeps a level, `coarsest` on the last),
+    then λ and x. One kernel call for the whole cycle, not one a level and sweep."""
     levels = row_off.shape[0] - 1
     edge_normals(x, edges, alive, normals)
     if assemble:
