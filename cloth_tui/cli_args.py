@@ -189,7 +189,8 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                         f"{' or '.join(lab_solvers)} (the first is the default)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="OUT.png",
-                   help="draw the error against resolution and against wall time")
+                   help="draw the error against resolution and against wall time "
+                        "(drape: each run's shadow from above beside the coefficient)")
     add_fit_arguments(p)
 
     p = sub.add_parser("wedge", help="run SCENE over every combination of --vary values (on "
