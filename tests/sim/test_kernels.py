@@ -11,11 +11,13 @@ from cloth_tui.sim import selfcollision
 
 
 def sim_kernels():
-    for info in pkgutil.iter_modules(cloth_tui.sim.__path__):
-        module = importlib.import_module(f"cloth_tui.sim.{info.name}")
+    """Every kernel of every module under cloth_tui.sim, its subpackages' (solvers/...) too."""
+    prefix = "cloth_tui.sim."
+    for info in pkgutil.walk_packages(cloth_tui.sim.__path__, prefix):
+        module = importlib.import_module(info.name)
         for name, obj in vars(module).items():
             if isinstance(obj, CPUDispatcher) and obj.__module__ == module.__name__:
-                yield f"{info.name}.{name}", obj
+                yield f"{info.name[len(prefix):]}.{name}", obj
 
 
 def test_every_sim_kernel_uses_the_numpy_error_model_and_releases_the_gil():
