@@ -4,7 +4,8 @@ in 2 s as a share of its free energy (released flat; E_eq from a settled damped 
 
     python tools/solver_lab/bench.py CANDIDATE CELLS [CELLS...]
 CANDIDATE: lbfgs:IT:SUB (the registered solver), qn:IT:SUB[:THETA] (its prototype, qn.py,
-with the θ-scheme), pd:IT:SUB[:RHO] (pd.py), xpbd:IT:SUB / hpbd:IT:SUB, or default:SOLVER (4 substeps, adaptive).
+with the θ-scheme), pd:IT:SUB[:RHO] (pd.py), xpbd:IT:SUB / hpbd:IT:SUB, or default:SOLVER
+(4 substeps, adaptive).
 Run with OPENBLAS_NUM_THREADS=1: a threaded BLAS spins on a shared 2-core machine."""
 import sys
 import time
@@ -101,4 +102,5 @@ if __name__ == "__main__":
             print(f"{cand} {preset} {cells}: sag {s:.5f} E_settled {e:.6f}", flush=True)
         elif what.startswith("energy"):
             e_eq = float(what.split("=")[1])
-            print(f"{cand} {preset} {cells}: energy loss 2 s {100*energy_loss(cand, cells, e_eq, preset=preset):.1f} %", flush=True)
+            loss = energy_loss(cand, cells, e_eq, preset=preset)
+            print(f"{cand} {preset} {cells}: energy loss 2 s {100 * loss:.1f} %", flush=True)

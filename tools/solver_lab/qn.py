@@ -83,8 +83,8 @@ class QuasiNewtonFabric:
             return
         self._h = h
         self.mass_h2 = self.model.mass / (h * h)
-        self.lu = sla.splu(fabric_matrix(self.model, h, theta=self.theta), permc_spec="MMD_AT_PLUS_A",
-                           options={"SymmetricMode": True})
+        self.lu = sla.splu(fabric_matrix(self.model, h, theta=self.theta),
+                           permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
 
     def phi(self, x, y, alive, grad, want, theta=None):
         theta = self.theta if theta is None else theta
