@@ -30,152 +30,22 @@ import math
 import numpy as np
 
 from ..scene import SceneObject
-from .jit import kernel
+from .contact_kernels import (  # noqa: F401
+    DISPATCHED,
+    apply_coulomb_friction,
+    collide_path,
+    collide_shape,
+    find_crossings,
+    signed_distances,
+)
 from .params import FrictionSource, StepParams
 from .protocols import Collider, ObjectPose
-from .shapes import SHAPES, Shape, box, capsule, cylinder, mesh, plane, shape_of, sphere, torus
+from .shapes import SHAPES, Shape, plane, shape_of
 from .shapes.base import KernelInputs
 
 ORBIT_RADIUS = 0.25   # m, radius of a moving object's horizontal circle
 ORBIT_PERIOD = 10.0   # s, one revolution (≈ 0.16 m/s: the original's slow drift)
 KINETIC_SHARE = 0.8   # μk / μs: sliding friction a little below sticking (typical of fabric)
-
-
-# -- kernels --------------------------------------------------------------------------------
-# Each shape's distance (signed distance d of a point q relative to the shape's centre, and
-# the outward unit normal there) is written once, in its module under sim/shapes/; the
-# contact kernel and the penetration measure both call it through for_shape.
-_sphere = kernel(inline="always")(sphere.distance)
-_box = kernel(inline="always")(box.distance)
-_capsule = kernel(inline="always")(capsule.distance)
-_plane = kernel(inline="always")(plane.distance)
-_mesh = kernel(inline="always")(mesh.distance)
-_cylinder = kernel(inline="always")(cylinder.distance)
-_torus = kernel(inline="always")(torus.distance)
-SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER, TORUS = (
-    sphere.SHAPE.code, box.SHAPE.code, capsule.SHAPE.code, plane.SHAPE.code, mesh.SHAPE.code,
-    cylinder.SHAPE.code, torus.SHAPE.code)
-# the codes for_shape has a branch for
-DISPATCHED = {SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER, TORUS}
-
-
-@kernel(inline="always")
-def _no_shape(qx, qy, qz, p, side, grid, gradient):
-    """An unknown code's distance: NaN (ShapeCollider refuses one before any kernel runs)."""
-    return math.nan, 0.0, 1.0, 0.0
-
-
-@kernel(inline="always")
-def for_shape(code, body, args):
-    """body(distance, args) with the distance function of shape `code` (p[0:3] its centre
-    and p[3:] its packed parameters, for a point q relative to the centre; `side` (±1)
-    picks the side of a two-sided plane, grid and gradient are a mesh's distance grid).
-    The branch is taken once for a whole loop over the sheet, which `body` holds, not once
-    a particle: a loop with the distance call fixed is compiled for each shape (measured
-    on a 256² sheet above the floor, one contact pass: 0.98 ms with the branch inside the
-    loop, 0.11 ms with it outside)."""
-    if code == SPHERE:
-        return body(_sphere, args)
-    if code == BOX:
-        return body(_box, args)
-    if code == CAPSULE:
-        return body(_capsule, args)
-    if code == PLANE:
-        return body(_plane, args)
-    if code == MESH:
-        return body(_mesh, args)
-    if code == CYLINDER:
-        return body(_cylinder, args)
-    if code == TORUS:
-        return body(_torus, args)
-    return body(_no_shape, args)
-
-
-@kernel(inline="always")
-def push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal):
-    """Particle i, at distance d along the outward normal n, goes out to the skin's surface
-    (`thickness` from the object's); its contact keeps depth[i] += how far and normal[i] = n
-    for the friction stage."""
-    push = thickness - d
-    x[i, 0] += push * nx
-    x[i, 1] += push * ny
-    x[i, 2] += push * nz
-    depth[i] += push
-    normal[i, 0] = nx
-    normal[i, 1] = ny
-    normal[i, 2] = nz
-
-
-@kernel(inline="always")
-def _contacts(distance, args):
-    x, inv_mass, side, p, grid, gradient, thickness, depth, normal = args
-    cx, cy, cz = p[0], p[1], p[2]
-    for i in range(x.shape[0]):
-        if inv_mass[i] == 0.0:
-            continue
-        d, nx, ny, nz = distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, side[i], grid,
-                                 gradient)
-        if d < thickness:
-            push_out_of_contact(x, i, d, nx, ny, nz, thickness, depth, normal)
-
-
-@kernel()
-def collide_shape(x, inv_mass, side, code, p, grid, gradient, thickness, depth, normal):
-    """Contact projection for one object: a particle inside the skin goes out along the
-    normal to the skin's surface; depth[i] += how far, normal[i] = n. side[i] = ±1 is the
-    side of a plane the particle started on (an infinite plane cannot be walked around, so
-    it keeps it); other shapes ignore it."""
-    for_shape(code, _contacts, (x, inv_mass, side, p, grid, gradient, thickness, depth,
-                                normal))
-
-
-@kernel()
-def apply_coulomb_friction(x, x_prev, depth, normal, dx, dy, dz, mu_static, mu_kinetic):
-    """Static and kinetic friction on each contact's motion relative to the object (see the
-    module's docstring); (dx, dy, dz) is the object's displacement this substep. Clears
-    `depth` for the next substep."""
-    for i in range(x.shape[0]):
-        push = depth[i]
-        if push == 0.0:
-            continue
-        depth[i] = 0.0
-        nx = normal[i, 0]
-        ny = normal[i, 1]
-        nz = normal[i, 2]
-        rx = x[i, 0] - x_prev[i, 0] - dx
-        ry = x[i, 1] - x_prev[i, 1] - dy
-        rz = x[i, 2] - x_prev[i, 2] - dz
-        rn = rx * nx + ry * ny + rz * nz
-        tx = rx - rn * nx
-        ty = ry - rn * ny
-        tz = rz - rn * nz
-        slide = math.sqrt(tx * tx + ty * ty + tz * tz)
-        if slide == 0.0:
-            continue
-        if slide < mu_static * push:
-            removed = 1.0  # static: all of the tangential motion
-        else:
-            removed = min(mu_kinetic * push / slide, 1.0)
-        x[i, 0] -= removed * tx
-        x[i, 1] -= removed * ty
-        x[i, 2] -= removed * tz
-
-
-@kernel(inline="always")
-def _distances(distance, args):
-    x, side, p, grid, gradient, out = args
-    cx, cy, cz = p[0], p[1], p[2]
-    for i in range(x.shape[0]):
-        d, _, _, _ = distance(x[i, 0] - cx, x[i, 1] - cy, x[i, 2] - cz, p, side[i], grid,
-                              gradient)
-        out[i] = d
-
-
-@kernel()
-def signed_distances(x, side, code, p, grid, gradient, out):
-    """out[i] = signed distance of point i from the true surface (negative inside), m: the
-    same distance function the contact kernel uses."""
-    for_shape(code, _distances, (x, side, p, grid, gradient, out))
 
 
 # -- effects --------------------------------------------------------------------------------
@@ -204,6 +74,14 @@ class ShapeCollider:
         # this substep's contacts: how far the object pushed each particle, and along what
         self.depth = np.zeros(model.num_particles)
         self.normal_at = np.zeros((model.num_particles, 3))
+        # each substep's path is checked for a crossing at the next one's first pass (its
+        # start and time kept); a particle that went through is marked, with where it went
+        # in and the normal there, until `penetration` measures how far beyond it still is
+        self._start = np.zeros((model.num_particles, 3))
+        self._start_t = math.nan
+        self.crossed = np.zeros(model.num_particles, dtype=np.bool_)
+        self.entry = np.zeros((model.num_particles, 3))
+        self.entry_normal = np.zeros((model.num_particles, 3))
 
     @property
     def friction(self) -> float:
@@ -229,8 +107,25 @@ class ShapeCollider:
         if not self._sides_known:
             self.side[:] = self.sides(state.x_prev, before)  # before this substep
             self._sides_known = True
-        collide_shape(state.x, self.inv_mass, self.side, self.shape.code, p, self.grid,
-                      self.gradient, self.thickness, self.depth, self.normal_at)
+        if state.t != self._start_t:  # this substep's first pass
+            self._check_last_substep(state, h, before)
+        collide_path(state.x, state.x_prev, self.inv_mass, self.side, self.shape.code, p,
+                     self.grid, self.gradient, self.thickness, self.depth, self.normal_at,
+                     after - before)
+
+    def _check_last_substep(self, state, h, before):
+        """The path of the substep that ended where this one starts, if it did (not after a
+        restored state), checked for a crossing; this one's start kept for the next."""
+        # (a plane keeps each particle's side, which its distance measures)
+        if self._start_t + h == state.t and not self.shape.sided:
+            p = self.params.copy()
+            p[0:3] = before
+            find_crossings(self._start, state.x_prev, self.inv_mass, self.side,
+                           self.shape.code, p, self.grid, self.gradient,
+                           before - self.center_at(self._start_t), self.entry,
+                           self.entry_normal, self.crossed)
+        self._start[:] = state.x_prev
+        self._start_t = state.t
 
     def apply_friction(self, state, h):
         d = self.displacement(state.t, h)
@@ -249,12 +144,21 @@ class ShapeCollider:
         return out
 
     def penetration(self, x: np.ndarray) -> float:
-        """Deepest any free particle is inside the true surface, m."""
+        """Deepest any free particle is inside the true surface, or beyond it on the far side
+        of the object it went through since the last measure (along the normal where it
+        went in: a state restored to before it is not), m."""
         free = self.inv_mass != 0.0
         if not free.any():
             return 0.0
         # signed_distance takes every particle: a plane's side is kept per particle
-        return float(max(0.0, -self.signed_distance(x)[free].min()))
+        deepest = max(0.0, -self.signed_distance(x)[free].min())
+        marked = self.crossed & free
+        if marked.any():
+            q = x[marked] - self.center - self.entry[marked]
+            beyond = -np.einsum("ij,ij->i", q, self.entry_normal[marked])
+            deepest = max(deepest, float(beyond.max()))
+            self.crossed[:] = False
+        return deepest
 
     def pose(self, t: float) -> ObjectPose | None:
         c = self.center_at(t)

@@ -28,8 +28,7 @@ class ContactsLast(Simulation):
 def pulled_into(where: str, stiffness: float):
     if where == "floor":
         return apply_overrides(scene(cloth__resolution=10, cloth__pinned="none"),
-                               [f"pins=[{{rows=[0,0], offset=[0,-10,0], "
-                                f"stiffness={stiffness}}}]"])
+                               [f"pins=[{{rows=[0,0], offset=[0,-10,0], stiffness={stiffness}}}]"])
     s = apply_overrides(scene(cloth__resolution=10, cloth__pinned="none", scene__floor=False),
                         [f"pins=[{{rows=[0,0], offset=[0,-0.4,0], stiffness={stiffness}}}]"])
     s.objects = [SceneObject(type="sphere", center=[0.0, -0.1, -0.5], radius=0.25)]
