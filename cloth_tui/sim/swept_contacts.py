@@ -56,7 +56,7 @@ SPHERE, BOX, CAPSULE, PLANE, MESH, CYLINDER, TORUS = (
 @kernel()
 def distance_at(code, qx, qy, qz, p, side, grid, gradient):
     """The distance of shape `code` at q, branching on each call: the walk is the rare path,
-    compiled once for every shape (colliders.for_shape's per-shape loops are the common
+    compiled once for every shape (contact_kernels.for_shape's per-shape loops are the common
     one)."""
     if code == SPHERE:
         return _sphere(qx, qy, qz, p, side, grid, gradient)

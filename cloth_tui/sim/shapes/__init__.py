@@ -2,13 +2,13 @@
 
 A shape's module holds all of it, for each layer that handles objects (base.Shape): its
 [[objects]] keys and their checks, the numbers its compiled distance reads (`pack`) and that
-distance itself (a plain function sim/colliders.py compiles into its one dispatch, a branch
+distance itself (a plain function sim/contact_kernels.py compiles into its one dispatch, a branch
 per shape, since numba needs the branches written out), its render mesh and its USD prim and
 how a bake reads it back. `shape_of` refuses a type that is not registered, so no consumer
 can fall through to another shape's code.
 
 Adding a shape: a module here with its Shape subclass (a new `code`), its entry in SHAPES,
-and its branch in colliders.for_shape.
+and its branch in contact_kernels.for_shape and swept_contacts.distance_at.
 """
 
 from __future__ import annotations

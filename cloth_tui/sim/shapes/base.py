@@ -59,7 +59,7 @@ class Shape:
     """One kind of object. Subclasses set the class attributes and the methods marked."""
 
     name = ""            # the scene's `type`
-    code = -1            # its branch in the compiled dispatch (sim/colliders.for_shape)
+    code = -1            # its branch in the compiled dispatch (contact_kernels.for_shape)
     keys: dict = {}      # its own [[objects]] keys: name → scene_keys.key(...) declaration
     parameter_kinds: dict = {}  # the pose's parameters: name → LENGTH, SIDES, ...
     single_object: dict | None = None  # scene.object's placement (SceneObject keys), if any
