@@ -68,7 +68,12 @@ def _fan(polygons) -> np.ndarray:
         if len(p) > MAX_POLYGON:
             raise MeshFileError(f"a face with {len(p)} vertices; at most {MAX_POLYGON}")
         out.extend((p[0], p[k], p[k + 1]) for k in range(1, len(p) - 1))
-    return np.array(out, dtype=np.int64).reshape(-1, 3)
+    try:
+        return np.array(out, dtype=np.int64).reshape(-1, 3)
+    except OverflowError:  # an ASCII PLY index past int64: its reader keeps Python ints
+        big = next(i for t in out for i in t if abs(int(i)) > MAX_VERTICES)
+        raise MeshFileError(f"a face names vertex {big}; a file has at most {MAX_VERTICES} "
+                            "vertices") from None
 
 
 # -- STL --------------------------------------------------------------------------------

@@ -69,6 +69,14 @@ def test_hostile_mesh_files_give_one_line_and_exit_2(tmp_path, case):
     assert "\x1b" not in run.stderr  # no VTK error line with its colour escapes
 
 
+def test_an_ascii_ply_index_past_int64_is_a_mesh_file_error(tmp_path):
+    # found by tools/fuzz_files.py (seed 40, case 128): an OverflowError, exit 1
+    path = tmp_path / "big.ply"
+    path.write_bytes(ascii_ply(4, 4, faces=[[0, 1, 2], [0, 1, 10**20], [0, 2, 3], [1, 2, 3]]))
+    with pytest.raises(MeshFileError, match="names vertex 100000000000000000000"):
+        read_triangles(path, 1000)
+
+
 @pytest.mark.parametrize("data", [ascii_ply(4, 4), binary_ply(4, 4),
                                   obj([[1, 3, 2], [1, 2, 4], [1, 4, 3], [2, 3, 4]])],
                          ids=["ascii ply", "binary ply", "obj"])
