@@ -30,6 +30,12 @@ def test_the_classes_name_what_passes():
     assert fuzz_files.classify(0, "") == "ok"
     assert fuzz_files.classify(2, "cloth-tui: error: x\n") == "refused"
     assert fuzz_files.classify(2, "Warning: a\nb\ncloth-tui: error: x\n") == "bad_message"
+    # the compile notice of a cold cache is not a warning (seed 40, case 152)
+    notice = ("cloth-tui: compiling kernels (first run only)…\n"
+              "cloth-tui: 1 kernels compiled in 108 s; later runs load them from numba's cache\n")
+    assert fuzz_files.classify(0, notice) == "ok"
+    assert fuzz_files.classify(2, notice + "cloth-tui: error: x\n") == "refused"
+    assert fuzz_files.classify(0, notice + "RuntimeWarning: x\n") == "stderr"
     assert fuzz_files.classify(-11, "") == "exit_-11" and fuzz_files.classify(None, "") == \
         "timeout"
 
