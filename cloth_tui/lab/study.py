@@ -65,7 +65,8 @@ def parse_resolutions(text: str, experiment: Experiment) -> list[int]:
                            f"{','.join(map(str, experiment.default_resolutions))})") from None
         if not experiment.min_resolution <= n <= MAX_RESOLUTION:
             raise LabError(f"--resolutions: {n} is outside {experiment.min_resolution}–"
-                           f"{MAX_RESOLUTION} for {experiment.name} ({experiment.resolution_meaning})")
+                           f"{MAX_RESOLUTION} for {experiment.name} "
+                           f"({experiment.resolution_meaning})")
         if n in out:
             raise LabError(f"--resolutions: {n} is given twice")
         out.append(n)
