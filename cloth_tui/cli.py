@@ -43,7 +43,7 @@ def cmd_simulate(args) -> int:
         check_output_path(Path(args.dump), (".npz",))
     from .compile_notice import CompileNotice
     from .interrupt import mesh_grid_progress
-    from .sim.runner import Simulation
+    from .sim.run.runner import Simulation
 
     with mesh_grid_progress(sys.stderr.isatty()):
         sim = Simulation(scene)
@@ -126,7 +126,7 @@ def _build_mesh_grids(scene) -> None:
     if not any(o.type == "mesh" for o in scene.objects):
         return
     from .interrupt import mesh_grid_progress
-    from .sim.colliders import build_colliders
+    from .sim.collision.colliders import build_colliders
     from .sim.model import build_model
 
     with mesh_grid_progress(sys.stderr.isatty()):

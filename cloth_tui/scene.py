@@ -22,7 +22,7 @@ from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
                          groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .scene_keys import MIN_DIRECTION_NORM, SECTIONS, SceneError, key, vec3
-from .sim import shapes
+from .sim.collision import shapes
 from .sim.solvers import registry as solver_registry
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem

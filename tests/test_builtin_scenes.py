@@ -8,7 +8,7 @@ import pytest
 
 from cloth_tui.resources import builtin_scenes
 from cloth_tui.scene_files import load
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 REQUIRED = ("default", "sphere", "box", "moving-sphere", "flag-in-wind", "rain", "black-hole",
             "self-collision-fold", "tilted-plane", "multi-object")

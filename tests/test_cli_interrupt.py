@@ -53,7 +53,7 @@ def run_tripped(tmp_path, target, *args):
     ("cloth_tui.resources", ["scenes"]),
     ("numpy", ["simulate", "default", "--frames", "1"]),
     ("numba", ["simulate", "default", "--frames", "1"]),
-    ("cloth_tui.sim.runner", ["simulate", "default", "--frames", "1"]),
+    ("cloth_tui.sim.run.runner", ["simulate", "default", "--frames", "1"]),
     # NumPy's C extension loads datetime itself and reports its failure as an ImportError
     ("datetime", ["lab", "catenary", "--resolutions", "8"]),
     ("cloth_tui.bench.step_bench", ["bench", "--quick", "--no-render", "--no-cost"]),

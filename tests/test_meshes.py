@@ -150,7 +150,7 @@ def test_a_scene_whose_meshes_hold_too_many_triangles_is_refused_before_any_grid
 
 def test_each_grid_built_is_announced_on_a_terminal(tmp_path, capsys, torus):
     from cloth_tui.interrupt import mesh_grid_progress
-    from cloth_tui.sim.colliders import build_colliders
+    from cloth_tui.sim.collision.colliders import build_colliders
     from cloth_tui.sim.model import build_model
 
     scene = loads(f'[[objects]]\ntype = "mesh"\npath = "{torus}"\nscale = 0.7\n'

@@ -11,7 +11,7 @@ from cloth_tui import scene_files as sf
 from cloth_tui.pin_groups import PinGroup, span
 from cloth_tui.scene import Scene, SceneError
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.pins import group_particles
+from cloth_tui.sim.effects.pins import group_particles
 
 GROUPS = ('pins=[{rows=[0,0], cols=[0,-1], offset=[0.1,0.05,0]}, '
           '{at=[[3,4],[-1,-1]], stiffness=0.8}, {cols=[2,2], keys=[[0,0,0,0],[1.5,0,0.2,0]]}]')
@@ -109,7 +109,7 @@ def test_a_scene_file_with_bad_pins_exits_2_with_one_line(tmp_path, capsys):
 def test_the_docs_example_is_a_scene_that_runs():
     from pathlib import Path
 
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
     page = (Path(__file__).parent.parent / "docs" / "scene-keys.md").read_text(encoding="utf-8")
     section = page.split("## Pin groups", 1)[1]
     example = section.split("```toml", 1)[1].split("```", 1)[0]

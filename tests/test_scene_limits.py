@@ -139,7 +139,7 @@ SIMULABLE_LOWS = {"cloth.mass": st.floats(min_value=5e-324, max_value=1e-3),
 def test_accepted_tiny_values_simulate(key_value, wind):
     """Validate what can be simulated, not only what is non-zero: an accepted value runs a
     few frames with finite positions and no floating-point warnings."""
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
 
     dotted, value = key_value
     try:
@@ -216,7 +216,7 @@ def test_held_particles_never_start_inside_the_floor(height, floor, thickness, p
                                                      amplitude):
     """A scene is refused, or its contacts hold from the first frame: pinned (or wave-held)
     particles below the floor can never be pushed out."""
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
 
     try:
         scene = sc.Scene().with_values({

@@ -52,7 +52,7 @@ from cloth_tui import scene as sc  # noqa: E402  (the repository's own package, 
 from cloth_tui.materials.presets import preset_names
 from cloth_tui.materials.values import KEYS as MATERIAL_KEYS
 from cloth_tui.resources import assets_dir  # noqa: E402
-from cloth_tui.sim.runner import MAX_GUARD_LEVEL  # noqa: E402
+from cloth_tui.sim.run.runner import MAX_GUARD_LEVEL  # noqa: E402
 
 WORK_BUDGET = 1_000_000  # particles × substeps × passes per frame (work_per_frame)
 IMPLICIT_PASSES = 40  # what a substep of implicit Euler is counted as (see _passes)

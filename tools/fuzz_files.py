@@ -306,7 +306,7 @@ def run_forked(seed: int, indices: list[int], bases: dict, timeout: float, jobs:
     """Yield run_one's results, up to `jobs` forked children at once (main thread only)."""
     sys.path.insert(0, str(ROOT))
     for module in ("cloth_tui.cli", "cloth_tui.meshes", "cloth_tui.mesh_files",
-                   "cloth_tui.io.usd_read", "cloth_tui.render.replay", "cloth_tui.sim.runner",
+                   "cloth_tui.io.usd_read", "cloth_tui.render.replay", "cloth_tui.sim.run.runner",
                    "pyvista", "pxr.Usd"):
         __import__(module)
     todo, running = list(indices), {}

@@ -27,7 +27,7 @@ import numpy as np
 from ..scene import Scene
 from ..sim import pipeline
 from ..sim.model import build_model
-from ..sim.measures import energy, stretch
+from ..sim.run.measures import energy, stretch
 from ..sim.solvers import registry as solver_registry
 from ..sim.solvers.springs.integrators import ORDERS
 from ..sim.state import ClothState

@@ -39,7 +39,7 @@ def cost_scene(n: int, overrides: dict):
 
 def run_once(scene, frames: int) -> dict:
     """One run of `frames` frames from a fresh sheet: its wall time and work."""
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     sim = Simulation(scene)
     met = True

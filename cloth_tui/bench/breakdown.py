@@ -9,7 +9,7 @@ import time
 from collections import defaultdict
 
 from ..scene import Scene
-from ..sim.runner import Simulation
+from ..sim.run.runner import Simulation
 
 
 class _Timed:

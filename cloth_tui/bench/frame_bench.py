@@ -28,7 +28,7 @@ def bench_frames(quick: bool = False) -> list[dict]:
     frames = 30 if quick else 120
     out = []
     for label, overrides in cases:
-        from ..sim.runner import Simulation
+        from ..sim.run.runner import Simulation
 
         scene = load("default")
         for k, v in overrides.items():

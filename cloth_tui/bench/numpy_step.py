@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..sim.model import ClothModel
-from ..sim.stages import damping_factor
+from ..sim.effects.stages import damping_factor
 
 
 def _slice_pairs(nx: int, nz: int, families: tuple[bool, bool, bool]) -> list[tuple]:

@@ -36,7 +36,7 @@ def preview_sizes() -> list[tuple[str, tuple[int, int]]]:
 def _snapshots(resolution: int):
     """Two draped states of a sheet, alternated so every frame really moves the mesh."""
     from ..scene import Scene
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     scene = Scene().with_value("cloth.resolution", resolution)
     sim = Simulation(scene)

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from ..sim.model import build_model
-from ..sim.selfcollision import SelfCollision
+from ..sim.collision.selfcollision import SelfCollision
 from ..sim.state import ClothState
 from .step_bench import bare_scene
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 
 from ..sim.jit import kernel
-from ..sim.stages import damping_factor
+from ..sim.effects.stages import damping_factor
 from ..sim.solvers.xpbd.constraints import project_constraints
 
 

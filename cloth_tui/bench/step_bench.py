@@ -105,7 +105,7 @@ def bench_frames_per_second(n: int = 256, substeps: int = 4, iterations: int = 4
                             quick: bool = False) -> dict:
     """Simulated frames per wall second (Simulation.advance_frame: step, health checks, undo
     copy) of frame_scene, over timed blocks after a warm-up."""
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     sim = Simulation(frame_scene(n, substeps, iterations))
     blocks, block_s = (3, 0.1) if quick else (5, 1.0)

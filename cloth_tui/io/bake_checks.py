@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..sim.shapes import SHAPES
-from ..sim.shapes.base import MAX_LENGTH, ShapeValueError, finite
+from ..sim.collision.shapes import SHAPES
+from ..sim.collision.shapes.base import MAX_LENGTH, ShapeValueError, finite
 from ..usage import UsageError
 
 MIN_FRAME_RATE, MAX_FRAME_RATE = 1.0, 10000.0  # the scene's behavior.frame_rate range

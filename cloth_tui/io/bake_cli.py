@@ -80,8 +80,8 @@ def run_bake(args) -> int:
     check_bake_output(out, frames)
     scene = apply_overrides(load(args.scene), args.overrides)
 
-    from ..sim.run_stats import RunStats
-    from ..sim.runner import Simulation
+    from ..sim.run.run_stats import RunStats
+    from ..sim.run.runner import Simulation
 
     with mesh_grid_progress(sys.stderr.isatty()):
         sim = Simulation(scene)

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from ..scene import Scene
 from ..sim.model import ClothModel, build_model
-from ..sim.run_stats import RunStats
-from ..sim.runner import Snapshot
+from ..sim.run.run_stats import RunStats
+from ..sim.run.runner import Snapshot
 from ..usage import UsageError
 from .usd_read import UsdBake
 

@@ -9,7 +9,7 @@ from typing import Protocol
 import numpy as np
 
 from ..sim.model import ClothModel
-from ..sim.tearing import intact_triangles, triangle_constraints
+from ..sim.effects.tearing import intact_triangles, triangle_constraints
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..sim.surface import grid_uv, vertex_normals
+from ..sim.collision.surface import grid_uv, vertex_normals
 from ..util import atomic_write
 from .frames import BakedFrame, SheetFaces
 

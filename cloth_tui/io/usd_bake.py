@@ -35,9 +35,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import scene_files as scene_io
-from ..sim.shapes import shape_of
-from ..sim.shapes.plane import quad
-from ..sim.surface import grid_uv, vertex_normals
+from ..sim.collision.shapes import shape_of
+from ..sim.collision.shapes.plane import quad
+from ..sim.collision.surface import grid_uv, vertex_normals
 from .frames import BakedFrame, SheetFaces
 from .mesh_sequence import BakeIOError
 from .part_files import disk_full, part_path, remove_stale_parts

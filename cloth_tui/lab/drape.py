@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from ..sim.tearing import remove_constraints
+from ..sim.effects.tearing import remove_constraints
 from .drape_shadow import (boundary_particles, grid_coords, shadow_area,
                            specimen_triangles)
 from .strips import strip_scene, timed_frames, warmed_simulation

@@ -60,7 +60,7 @@ def strip_scene(*, size: list[float], resolution: list[int], pins: list[dict],
 def warmed_simulation(scene):
     """A Simulation of `scene` whose kernels have run once (compiling or loading them is
     not the test's wall time), started again from t = 0."""
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     if _specimen_only:
         raise SpecimenBuilt

@@ -81,7 +81,7 @@ def run_render(args) -> int:
         print(f"cloth-tui: error: {e}", file=sys.stderr)
         return 1
 
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
     from .renderer import Renderer
 
     with mesh_grid_progress(sys.stderr.isatty()):

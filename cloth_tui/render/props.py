@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim.shapes import shape_of
+from ..sim.collision.shapes import shape_of
 from .geometry import AMBIENT, GROUND_DIFFUSE, flat_ground_light, fog_factor, hex_rgb
 
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge

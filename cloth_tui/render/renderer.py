@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ..sim.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
+from ..sim.collision.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
 from .antialias import antialias_bottom_up
-from ..sim.tearing import intact_triangles, triangle_constraints
+from ..sim.effects.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        drawable, family_colors, hex_rgb, pick_nearest, triangle_edges,
                        view_plane_delta)

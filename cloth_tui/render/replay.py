@@ -18,8 +18,8 @@ from ..io.bake_player import bake_model
 from ..io.usd_read import UsdBake
 from ..safe_text import escape_controls
 from ..scene_files import apply_overrides, parse_override
-from ..sim.run_stats import RunStats
-from ..sim.runner import Snapshot
+from ..sim.run.run_stats import RunStats
+from ..sim.run.runner import Snapshot
 from ..usage import UsageError
 from .capture import CaptureError, VideoWriter, save_png
 from .probe import RendererUnavailable, require_renderer

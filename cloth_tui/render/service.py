@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from ..newest_slot import NewestSlot
-from ..sim.run_stats import RunStats
+from ..sim.run.run_stats import RunStats
 from .capture import CaptureError, PreviewFile, VideoWriter, ensure_folder, save_png, timestamped
 from .probe import RendererUnavailable
 
 if TYPE_CHECKING:
-    from ..sim.runner import Snapshot
+    from ..sim.run.runner import Snapshot
 
 VIDEO_FPS = 30.0
 MAX_REPEAT = 5              # frames a slow render may be repeated to keep the video in time

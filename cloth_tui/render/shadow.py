@@ -19,7 +19,7 @@ import numpy as np
 
 from .geometry import AMBIENT, GROUND_DIFFUSE, HEADLIGHT_INTENSITY, LIGHT_DIR, hex_rgb
 from ..sim.jit import kernel
-from ..sim.surface import grid_cell_triangles
+from ..sim.collision.surface import grid_cell_triangles
 from .props import FOG_FAR, FOG_NEAR
 
 MAX_SIDE = 33          # particles along each side of the coarse copy: smooth, ≤ 2k faces

@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..sim.surface import thinned_rows
+from ..sim.collision.surface import thinned_rows
 
 WIRE_MESH_CELL_PX = 10.0  # cells at least this wide each way: the whole mesh, 1 px lines
 WIRE_CELL_PX = 8.0        # else: drawn grid lines at least this far apart…

@@ -12,11 +12,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .fabric import Fabric, build_fabric, fabric_masses, refit_fabric
-from .forces import wave_rows
+from .fabric.build import Fabric, build_fabric, fabric_masses, refit_fabric
+from .effects.forces import wave_rows
 from .grid_sweeps import grid_colors
-from .material import Grid
-from .pins import PinLayout, layout
+from .fabric.material import Grid
+from .effects.pins import PinLayout, layout
 from .solvers import registry
 
 FAMILIES = ("structural", "shear", "bending")

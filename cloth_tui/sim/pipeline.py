@@ -28,13 +28,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import colliders, forces, impulses, selfcollision, tearing
+from .collision import colliders, selfcollision
+from .effects import forces, impulses, tearing
 from .model import ClothModel
 from .params import StepParams
-from .pins import pin_effects
+from .effects.pins import pin_effects
 from .protocols import Collider, Effect, ForceEffect
 from .solvers import SolverBase, registry
-from .stages import ApplyPins, EnforceTethers
+from .effects.stages import ApplyPins, EnforceTethers
 
 if TYPE_CHECKING:
     from ..scene import Scene

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import ClothModel
-from .pins import hard_anchors, start_positions
+from .effects.pins import hard_anchors, start_positions
 
 
 @dataclass

@@ -28,9 +28,9 @@ from ..render.service import Frame
 from ..safe_text import escape_controls
 from ..scene import Scene, SceneError
 from ..scene_files import load
-from ..sim.held_contacts import check_start, held_inputs_differ
-from ..sim.runner import Snapshot
-from ..sim.sim_thread import SimulationThread
+from ..sim.collision.held_contacts import check_start, held_inputs_differ
+from ..sim.run.runner import Snapshot
+from ..sim.run.sim_thread import SimulationThread
 from ..sim.threads import toggle_single_thread
 from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS

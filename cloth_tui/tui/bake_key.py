@@ -10,7 +10,7 @@ from typing import Callable
 
 from ..io.mesh_sequence import BakeIOError
 from ..io.usd_bake import missing_usd_message
-from ..sim.run_stats import RunStats
+from ..sim.run.run_stats import RunStats
 
 
 class BakeKey:

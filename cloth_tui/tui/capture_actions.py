@@ -16,7 +16,7 @@ from ..render.capture import timestamped
 from ..render.service import CaptureKind
 from ..scene import Scene, SceneError
 from ..scene_files import save as save_scene
-from ..sim.sim_thread import SimulationThread
+from ..sim.run.sim_thread import SimulationThread
 from .bake_key import BakeKey
 from .messages import Captured
 

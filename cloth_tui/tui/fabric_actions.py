@@ -12,7 +12,7 @@ from ..materials.catalogue import preset_rows
 from ..materials.section import NAME, ORIGINAL, MaterialSection, section_to_table
 from ..resources import builtin_scenes
 from ..scene import Scene, SceneError
-from ..sim.held_contacts import check_start, held_inputs_differ
+from ..sim.collision.held_contacts import check_start, held_inputs_differ
 from .fabric_panel import FabricPanel
 from .panels import Controls
 

@@ -11,7 +11,7 @@ from textual.screen import Screen
 from textual.widget import Widget
 
 from ..scene import Scene, SceneError
-from ..sim.held_contacts import check_start, held_inputs_differ
+from ..sim.collision.held_contacts import check_start, held_inputs_differ
 from .help import HelpScreen
 from .panels import Controls, ObjectsPanel, SettingField
 from .pins_panel import PinsPanel

@@ -16,7 +16,7 @@ from textual.containers import Horizontal, Vertical
 from textual.content import Content
 from textual.widgets import Sparkline, Static
 
-from ..sim.run_stats import RunStats
+from ..sim.run.run_stats import RunStats
 
 # Numerical damping (share of free energy per second) below this is not worth a place.
 DAMPING_SHOWN = 1e-3

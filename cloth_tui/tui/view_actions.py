@@ -9,8 +9,8 @@ from collections import deque
 from typing import Any, Callable
 
 from ..scene import Scene, SceneError
-from ..sim.pins import grid_shape
-from ..sim.sim_thread import SimulationThread
+from ..sim.effects.pins import grid_shape
+from ..sim.run.sim_thread import SimulationThread
 from .bindings import BUMP_M, ORBIT_DEG, VIEW_SPAN, ZOOM_STEP
 from .messages import PinResult
 from .preview import Preview

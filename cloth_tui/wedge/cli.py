@@ -97,7 +97,7 @@ def check_runs(cells, progress: Progress) -> None:
     simulation's set-up finds (an object enclosing a held particle, say) would otherwise
     fail on a worker, after the cluster started, as a failed run and exit 1."""
     from ..scene import SceneError
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     progress.show(0)
     for done, cell in enumerate(cells, 1):

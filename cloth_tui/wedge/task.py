@@ -35,7 +35,7 @@ def _renderer(scene: Scene, size: tuple[int, int]):
 def run_cell(scene: Scene, frames: int, size: tuple[int, int], video: bool) -> dict:
     """Simulate `frames` frames and render. Returns the run's measures (JSON-ready), and
     `image` ((H, W, 3) uint8, the last frame) or `clip` ((frames, H, W, 3) uint8)."""
-    from ..sim.runner import Simulation
+    from ..sim.run.runner import Simulation
 
     started = time.perf_counter()
     sim = Simulation(scene)

@@ -3,8 +3,8 @@
 import numpy as np
 
 from cloth_tui.scene_files import apply_overrides, load
-from cloth_tui.sim.run_stats import RunStats
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.run_stats import RunStats
+from cloth_tui.sim.run.runner import Simulation
 
 
 def simulated_frames(scene_ref: str, overrides: list[str], frames: int):

@@ -8,8 +8,8 @@ import pytest
 from cloth_tui.cli import main
 from cloth_tui.io.frames import BakedFrame, SheetFaces
 from cloth_tui.scene_files import load
-from cloth_tui.sim.runner import Simulation
-from cloth_tui.sim.tearing import intact_triangles
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.effects.tearing import intact_triangles
 
 FRAMES = 50  # the built-in `tear` scene starts tearing at about frame 40
 

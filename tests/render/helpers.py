@@ -10,8 +10,8 @@ import numpy as np
 from cloth_tui.scene import Scene
 from cloth_tui.sim.protocols import ObjectPose
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.run_stats import RunStats
-from cloth_tui.sim.runner import Snapshot
+from cloth_tui.sim.run.run_stats import RunStats
+from cloth_tui.sim.run.runner import Snapshot
 
 
 def scene_with(**appearance) -> Scene:

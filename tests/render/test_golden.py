@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.sim.protocols import ObjectPose
-from cloth_tui.sim.shapes.base import unit
+from cloth_tui.sim.collision.shapes.base import unit
 
 from .helpers import draped, scene_with
 

@@ -8,7 +8,7 @@ from cloth_tui import scene_files as sf
 from cloth_tui.render.pin_markers import held_particles
 from cloth_tui.render.renderer import Renderer
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.pins import with_user_pin
+from cloth_tui.sim.effects.pins import with_user_pin
 
 from .helpers import draped, scene_with
 

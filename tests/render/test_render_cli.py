@@ -53,7 +53,7 @@ def test_output_inside_a_file_says_it_is_not_a_folder(tmp_path, capsys):
 
 def test_png_defaults_to_two_simulated_seconds(tmp_path, monkeypatch):
     """A PNG shows the settled sheet: 2 s of simulated time, whatever the frame rate."""
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
     calls = []
     advance = Simulation.advance_frame
     monkeypatch.setattr(Simulation, "advance_frame",

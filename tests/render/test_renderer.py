@@ -4,7 +4,7 @@ import numpy as np
 
 from cloth_tui.render.geometry import hex_rgb
 from cloth_tui.sim.protocols import ObjectPose
-from cloth_tui.sim.surface import vertex_normals
+from cloth_tui.sim.collision.surface import vertex_normals
 
 from .helpers import SPHERE, draped, red_pixels, scene_with, with_positions
 

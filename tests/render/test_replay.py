@@ -21,7 +21,7 @@ def bake(tmp_path_factory):
 
 @pytest.fixture
 def no_simulation(monkeypatch):
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
 
     def refuse(self, *a, **k):
         raise AssertionError("a replay must not simulate")

@@ -5,7 +5,7 @@ import dataclasses
 import numpy as np
 
 from cloth_tui.sim.state import ClothState
-from cloth_tui.sim.tearing import cut_between
+from cloth_tui.sim.effects.tearing import cut_between
 
 from .helpers import draped, red_pixels, scene_with
 

@@ -7,7 +7,7 @@ import pytest
 
 from cloth_tui.render.geometry import triangle_edges
 from cloth_tui.render.wire import WIRE_MESH_CELL_PX, grid_gaps_px, wire_edges, wire_look
-from cloth_tui.sim.surface import grid_cell_triangles
+from cloth_tui.sim.collision.surface import grid_cell_triangles
 
 from .helpers import draped, red_pixels, scene_with
 

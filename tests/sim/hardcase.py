@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 
 def make(overrides: dict) -> Scene:

@@ -13,7 +13,7 @@ import sys
 import numpy as np
 
 from cloth_tui.scene_files import load
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 FRAMES = 90
 # The default scene with the original's solver (pbd, adaptive: the default until hpbd), and

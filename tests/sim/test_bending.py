@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from cloth_tui.sim.bending import (bending_compliance, bending_energy, bending_gradient,
-                                   bending_hessian, bending_stencils)
-from cloth_tui.sim.material import Grid
+from cloth_tui.sim.fabric.bending import (bending_compliance, bending_energy, bending_gradient,
+                                          bending_hessian, bending_stencils)
+from cloth_tui.sim.fabric.material import Grid
 
 from .bent_sheets import cylinder, hinge_sum
 

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from cloth_tui.lab.elastica import cantilever
-from cloth_tui.sim.bending import bending_gradient, bending_stencils
-from cloth_tui.sim.material import Grid, lumped_masses
+from cloth_tui.sim.fabric.bending import bending_gradient, bending_stencils
+from cloth_tui.sim.fabric.material import Grid, lumped_masses
 
 DENSITY, GRAVITY, WIDTH = 0.3, 9.81, 0.05
 

@@ -8,7 +8,7 @@ import pytest
 
 from cloth_tui import scene_files as sf
 from cloth_tui.scene import Scene
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 LENGTH, WIDTH, SPAN = 1.0, 0.1, 0.8  # m: the strip, and its ends' distance once brought in
 

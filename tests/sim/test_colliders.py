@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import SceneObject
-from cloth_tui.sim import colliders
+from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
-from cloth_tui.sim.shapes import shape_of
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.collision.shapes import shape_of
 from .helpers import run, scene
 
 

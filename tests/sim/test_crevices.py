@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cloth_tui.scene import SceneObject
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import run, scene
 

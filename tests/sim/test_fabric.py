@@ -10,9 +10,9 @@ from cloth_tui.materials.presets import get_preset
 from cloth_tui.scene import Scene
 from cloth_tui.sim import grid_sweeps
 from cloth_tui.sim.solvers.xpbd import constraints as xpbd
-from cloth_tui.sim.material import ALONG_X, ALONG_Z, pair_compliance, pair_kinds, strip_width
+from cloth_tui.sim.fabric.material import ALONG_X, ALONG_Z, pair_compliance, pair_kinds, strip_width
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 CUSTOM = {"areal_density": 0.2, "stretch": [100.0, 50.0], "shear": 10.0, "bending": 0.0,
           "damping": 5.0}
@@ -132,8 +132,8 @@ def test_the_runners_energy_with_a_material_counts_its_shear_and_bending_too():
     # A denim sheet swinging from one edge bends and shears: the energy the runner reports
     # (and the numerical damping reads) holds every family's ½αf², not the edges' alone.
     from cloth_tui.sim.solvers.xpbd.fabric_constraints import fabric_force_energy
-    from cloth_tui.sim.measures import (gravitational_energy, kinetic_energy, per_constraint,
-                                        xpbd_elastic_energy)
+    from cloth_tui.sim.run.measures import (gravitational_energy, kinetic_energy, per_constraint,
+                                            xpbd_elastic_energy)
     scene = fabric_scene("denim", **{"cloth.pinned": "one_edge", "cloth.resolution": 12,
                                      "scene.floor": False, "behavior.substeps": 8})
     sim = Simulation(scene)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.bending import bending_gradient
+from cloth_tui.sim.fabric.bending import bending_gradient
 from cloth_tui.sim.solvers.xpbd.fabric_constraints import (ProjectFabric, fabric_energy,
                                                             fabric_force_energy, project_stencils)
 from cloth_tui.sim.model import build_model

@@ -7,7 +7,7 @@ import pytest
 
 from cloth_tui.scene import Scene
 from cloth_tui.sim.solvers.hpbd.multiplier_levels import DualHierarchy, edge_aggregates
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .test_fabric_resolution import centre_height, clipped_sheet
 from .test_tearing_by_strength import FRAME, first_tear, pulled_strip

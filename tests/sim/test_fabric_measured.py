@@ -15,10 +15,10 @@ from cloth_tui.lab.strips import strip_scene
 from cloth_tui.materials.presets import get_preset
 from cloth_tui.materials.schema import material_from_table
 from cloth_tui.scene import Scene
-from cloth_tui.sim.material import (ALONG_X, ALONG_Z, Grid, pair_compliance, pair_kinds,
-                                    strip_width)
+from cloth_tui.sim.fabric.material import (ALONG_X, ALONG_Z, Grid, pair_compliance, pair_kinds,
+                                           strip_width)
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.xpbd.fabric_constraints import fabric_energy
 
 from .bent_sheets import cylinder, hinge_sum
@@ -128,7 +128,7 @@ def test_the_folds_are_arcsims_rows_by_the_angle_of_their_hinges():
 
 
 def test_the_edges_stand_for_their_strips_as_the_linear_compliance_does():
-    from cloth_tui.sim.stretch_curve import edge_stretch
+    from cloth_tui.sim.fabric.stretch_curve import edge_stretch
     material = material_from_table({"preset": "jersey"})
     g = Grid.sheet(1.0, 0.5, 9, 6)
     m = _bent_model("jersey", rows=6, cols=9)
@@ -202,7 +202,7 @@ def test_the_accuracy_control_judges_a_stiffening_fabric_by_the_compliance_in_fo
 def test_tearing_asks_the_solve_for_the_tension_where_the_curve_is_steep():
     # the error that knows the tension to a tenth of the strength is a tenth of the strength
     # over the stiffness there: for jersey at 100 N/m, ×20 its stiffness at rest
-    from cloth_tui.sim.tearing import TEAR_FORCE_SHARE, strength_tolerance
+    from cloth_tui.sim.effects.tearing import TEAR_FORCE_SHARE, strength_tolerance
     p = get_preset("jersey")
     tolerances = {}
     for label, extra in (("curve", {}), ("linear", {"stretch": [p.stretch_warp,

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 PRESET = "denim"
 SETTLE_S = 3.0

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import forces
+from cloth_tui.sim.effects import forces
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.params import StepParams
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from .helpers import run, scene
 

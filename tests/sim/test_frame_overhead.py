@@ -7,8 +7,8 @@ import tracemalloc
 import numpy as np
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.measures import all_finite
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.measures import all_finite
+from cloth_tui.sim.run.runner import Simulation
 
 
 def test_all_finite_sees_nan_and_inf_in_positions_and_velocities():
@@ -45,7 +45,7 @@ def test_stretch_matches_its_numpy_definition_and_keeps_nan():
     # The compiled pass against |L/L0 − 1| written in NumPy, torn constraints left out;
     # a NaN position shows as a NaN maximum wherever it falls, not as a finite number.
     from cloth_tui.scene import Scene
-    from cloth_tui.sim.measures import stretch
+    from cloth_tui.sim.run.measures import stretch
     from cloth_tui.sim.model import build_model
 
     s = Scene().with_value("cloth.resolution", 9)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene_files import load
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from .helpers import run
 
 

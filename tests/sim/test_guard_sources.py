@@ -5,7 +5,7 @@ the guard's retries shortened h)."""
 
 import pytest
 
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import run, scene
 

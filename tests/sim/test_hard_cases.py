@@ -147,7 +147,7 @@ def test_drop_from_several_metres_onto_object(obj):
 def test_drop_onto_box_edge():
     from cloth_tui.scene import SceneObject
     from .hardcase import make
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
 
     s = make({"cloth.pinned": "none", "cloth.height": 4.0, "behavior.substeps": 8})
     s.objects = [SceneObject(type="box", center=[0.45, -0.25, 0.0], size=[0.5, 0.5, 0.5])]

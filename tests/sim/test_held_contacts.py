@@ -9,9 +9,9 @@ from hypothesis import strategies as st
 
 from cloth_tui.cli import main
 from cloth_tui.scene import SceneError, SceneObject
-from cloth_tui.sim.held_contacts import check_start, held_inputs_differ
+from cloth_tui.sim.collision.held_contacts import check_start, held_inputs_differ
 from cloth_tui.sim.model import pinned_indices
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import scene
 

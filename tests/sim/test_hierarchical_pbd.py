@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.sim.solvers.hpbd.position_levels import ProjectHierarchy
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from cloth_tui.sim.solvers.xpbd.constraints import ProjectConstraints
 

@@ -5,7 +5,7 @@ import pytest
 
 from cloth_tui.sim.solvers.hpbd.level_grids import axis_nodes, build_levels, torn_flags
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.tearing import cut_between
+from cloth_tui.sim.effects.tearing import cut_between
 from cloth_tui.sim.state import ClothState
 
 from .helpers import scene

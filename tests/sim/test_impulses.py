@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 
-from cloth_tui.sim import impulses
+from cloth_tui.sim.effects import impulses
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.params import StepParams
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from .helpers import scene
 

@@ -7,7 +7,7 @@ import numpy as np
 from numba.core.registry import CPUDispatcher
 
 import cloth_tui.sim
-from cloth_tui.sim import selfcollision
+from cloth_tui.sim.collision import selfcollision
 
 
 def sim_kernels():

@@ -7,10 +7,10 @@ import pytest
 
 from cloth_tui.materials.errors import MaterialError
 from cloth_tui.materials.schema import material_from_table
-from cloth_tui.sim.material import (Grid, cell_shear_strain, damping_factor,
-                                    damping_rate_from_share, grid_pairs, lumped_masses,
-                                    membrane_energy, pair_compliance, pair_stiffness,
-                                    tension_per_width)
+from cloth_tui.sim.fabric.material import (Grid, cell_shear_strain, damping_factor,
+                                           damping_rate_from_share, grid_pairs, lumped_masses,
+                                           membrane_energy, pair_compliance, pair_stiffness,
+                                           tension_per_width)
 from cloth_tui.scene import Scene
 from cloth_tui.sim.model import build_model, grid_edges
 

@@ -9,7 +9,7 @@ import warnings
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 BASE = {"areal_density": 0.2, "stretch": 100.0, "shear": 10.0, "bending": 1e-6}
 TINY = 5e-324

@@ -8,8 +8,8 @@ pv = pytest.importorskip("pyvista")
 from cloth_tui import meshes  # noqa: E402
 from cloth_tui.scene import Scene, SceneObject  # noqa: E402
 from cloth_tui.sim import pipeline  # noqa: E402
-from cloth_tui.sim.colliders import ShapeCollider  # noqa: E402
-from cloth_tui.sim.runner import Simulation  # noqa: E402
+from cloth_tui.sim.collision.colliders import ShapeCollider  # noqa: E402
+from cloth_tui.sim.run.runner import Simulation  # noqa: E402
 
 from .helpers import run, scene  # noqa: E402
 

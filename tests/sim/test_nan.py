@@ -13,7 +13,7 @@ from cloth_tui.scene import Scene
 from cloth_tui.sim import pipeline
 from cloth_tui.sim.jit import FASTMATH
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.springs.integrators import ORDERS
 from cloth_tui.sim.state import ClothState
 

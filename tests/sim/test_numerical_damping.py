@@ -3,7 +3,7 @@ bounded by behavior.energy_tolerance through the adaptive substeps."""
 
 import pytest
 
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import scene
 
@@ -90,7 +90,7 @@ def test_simulate_json_and_stats_report_error_stretch_and_numerical_damping_apar
 
 
 def test_the_meter_measures_from_where_the_last_frame_ended_and_forgets_jumps():
-    from cloth_tui.sim.numerical_damping import AVERAGE_FRAMES, DampingMeter
+    from cloth_tui.sim.run.numerical_damping import AVERAGE_FRAMES, DampingMeter
     meter = DampingMeter()
     calls = []
     start = meter.begin(True, lambda: calls.append(1) or 10.0)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cloth_tui.sim.params import PARAMETER_KEYS, StepParams, same_structure
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import run, scene
 

@@ -7,10 +7,10 @@ import pytest
 from cloth_tui import scene_files as sf
 from cloth_tui.pin_groups import SOFT_PIN_SCALE, PinGroup
 from cloth_tui.scene import SceneError, SceneObject
-from cloth_tui.sim.held_contacts import check_start
+from cloth_tui.sim.collision.held_contacts import check_start
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.pins import group_particles, track_times
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.effects.pins import group_particles, track_times
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import run, scene
 

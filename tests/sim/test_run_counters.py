@@ -4,7 +4,7 @@ halted) belong to that run: a restart or a rebuilt sheet starts them again from 
 import numpy as np
 import pytest
 
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import scene
 

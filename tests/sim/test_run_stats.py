@@ -7,8 +7,8 @@ from pathlib import Path
 
 import cloth_tui
 from cloth_tui.scene import Scene
-from cloth_tui.sim.run_stats import FrameStats, RunStats
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.run_stats import FrameStats, RunStats
+from cloth_tui.sim.run.runner import Simulation
 
 
 def test_a_refresh_keeps_the_costly_numbers_and_takes_the_frames():

@@ -6,10 +6,10 @@ import time
 import numpy as np
 import pytest
 
-from cloth_tui.sim import runner
-from cloth_tui.sim import sim_thread
-from cloth_tui.sim.runner import Simulation
-from cloth_tui.sim.sim_thread import SimulationThread
+from cloth_tui.sim.run import runner
+from cloth_tui.sim.run import sim_thread
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.run.sim_thread import SimulationThread
 
 from .helpers import run, scene
 
@@ -268,7 +268,7 @@ def test_a_soft_implicit_sheet_stretches_without_a_halt():
     # stiffness 1 N/m: the sheet's weight alone stretches springs past twice their length;
     # implicit Euler is stable there, so that is the material, not divergence (issue 19).
     from cloth_tui.scene import Scene
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
 
     sim = Simulation(Scene().with_value("behavior.solver", "springs")
                      .with_value("behavior.stiffness", 1.0))

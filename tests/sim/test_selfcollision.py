@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 
-from cloth_tui.sim import selfcollision
+from cloth_tui.sim.collision import selfcollision
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from .helpers import scene
 
 

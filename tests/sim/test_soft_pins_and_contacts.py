@@ -6,8 +6,8 @@ import pytest
 
 from cloth_tui.scene import SceneObject
 from cloth_tui.scene_files import apply_overrides
-from cloth_tui.sim import colliders
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.collision import colliders
+from cloth_tui.sim.run.runner import Simulation
 
 from .helpers import run, scene
 

@@ -1,7 +1,7 @@
 import numpy as np
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import stages
+from cloth_tui.sim.effects import stages
 from cloth_tui.sim.solvers.xpbd import verlet
 from cloth_tui.sim.model import build_model
 

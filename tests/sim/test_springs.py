@@ -9,7 +9,7 @@ import pytest
 from cloth_tui.bench import accuracy as A
 from cloth_tui.scene import Scene
 from cloth_tui.sim import pipeline
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.params import StepParams
 from cloth_tui.sim.solvers.springs.integrators import ORDERS, IntegrateSprings
 from cloth_tui.sim.state import ClothState

@@ -1,8 +1,8 @@
 """The substep controller alone: raise on excess, stop at the cap, lower with hysteresis; the
 solve error redoes a frame, the numerical damping raises the count for the frames after."""
 
-from cloth_tui.sim.substep_control import (ENERGY_FRAMES, ENERGY_SAFETY, ENERGY_SLACK_FRAMES,
-                                           MAX_RAISE, SLACK_FRAMES, SubstepController)
+from cloth_tui.sim.run.substep_control import (ENERGY_FRAMES, ENERGY_SAFETY, ENERGY_SLACK_FRAMES,
+                                               MAX_RAISE, SLACK_FRAMES, SubstepController)
 
 
 def test_a_frame_over_tolerance_is_redone_with_more_substeps_up_to_the_cap():

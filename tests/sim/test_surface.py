@@ -2,7 +2,8 @@ import numpy as np
 
 from cloth_tui.sim.model import build_model
 from cloth_tui.scene import Scene
-from cloth_tui.sim.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
+from cloth_tui.sim.collision.surface import (grid_cell_triangles, grid_uv, thinned_rows,
+                                             vertex_normals)
 
 
 def numpy_normals(points, triangles):

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import tearing
-from cloth_tui.sim.material import Grid
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.effects import tearing
+from cloth_tui.sim.fabric.material import Grid
+from cloth_tui.sim.run.runner import Simulation
 
 from .test_tearing_by_strength import FRAME, first_tear, pulled_strip
 

@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene, SceneError
-from cloth_tui.sim import pipeline, tearing
-from cloth_tui.sim.measures import stretch
+from cloth_tui.sim import pipeline
+from cloth_tui.sim.effects import tearing
+from cloth_tui.sim.run.measures import stretch
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
 
 
@@ -229,7 +230,7 @@ def test_the_torn_count_grows_in_one_place_only():
 
 
 def test_removing_constraints_counts_only_those_still_intact():
-    from cloth_tui.sim.tearing import remove_constraints
+    from cloth_tui.sim.effects.tearing import remove_constraints
     sim = Simulation(Scene().with_value("cloth.resolution", 4))
     mask = np.zeros(sim.model.num_constraints, dtype=bool)
     mask[:5] = True

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim import tearing
-from cloth_tui.sim.material import Grid, strip_width
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.effects import tearing
+from cloth_tui.sim.fabric.material import Grid, strip_width
+from cloth_tui.sim.run.runner import Simulation
 
 STRETCH = 500.0    # N/m, the strip's stretch modulus
 STRENGTH = 50.0    # N/m: it breaks at a strain of STRENGTH/STRETCH = 10 %

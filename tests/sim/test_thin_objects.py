@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene, SceneObject
-from cloth_tui.sim.colliders import ShapeCollider
-from cloth_tui.sim.runner import Simulation
-from cloth_tui.sim.shapes import box
+from cloth_tui.sim.collision.colliders import ShapeCollider
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.collision.shapes import box
 
 THICKNESS = 0.005  # the scene's collision margin (scene.thickness, the default)
 R, TUBE = 0.2, 0.01  # the torus: ring and tube radii, m

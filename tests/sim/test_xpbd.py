@@ -7,7 +7,7 @@ import pytest
 
 from cloth_tui.bench import accuracy as A
 from cloth_tui.scene import Scene
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 
 
 @pytest.fixture(scope="module")

@@ -192,7 +192,7 @@ def test_a_scene_whose_solver_takes_no_fabric_opens_without_it_and_says_why(tmp_
 
 
 def test_the_status_line_names_the_fabric_without_an_error_tolerance_too():
-    from cloth_tui.sim.run_stats import RunStats
+    from cloth_tui.sim.run.run_stats import RunStats
     from cloth_tui.tui.status import Readout
 
     r = Readout()

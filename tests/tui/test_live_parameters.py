@@ -136,7 +136,7 @@ def test_an_edit_that_may_move_a_held_particle_is_checked_once_on_the_ui_thread(
         tmp_path, monkeypatch):
     """Moving an object is checked for held particles in its skin where it is asked for,
     and the simulation thread, which is handed the checked scene, does not check again."""
-    from cloth_tui.sim import runner
+    from cloth_tui.sim.run import runner
     from cloth_tui.tui import panel_actions
 
     checks: list[str] = []

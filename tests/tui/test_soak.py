@@ -12,7 +12,7 @@ import random
 import pytest
 
 from cloth_tui.scene import Scene, all_keys, key_spec
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.tui import app as app_module
 
 from .conftest import SIZE, make_app, run, until

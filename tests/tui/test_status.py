@@ -9,7 +9,7 @@ import re
 import pytest
 from rich.text import Text
 
-from cloth_tui.sim.run_stats import RunStats
+from cloth_tui.sim.run.run_stats import RunStats
 from cloth_tui.tui.status import SPARK_AT_LEAST, RateMeter, Readout, cells
 
 from .conftest import make_app, run, until
@@ -104,7 +104,7 @@ def test_a_runs_own_stats_name_its_material_and_what_its_accuracy_costs():
     "denim · error … % → N substeps, … ms/frame", its error bound tightened for the
     tearing; the stretch shown beside it is the fabric's, not the error."""
     from cloth_tui.scene import Scene
-    from cloth_tui.sim.runner import Simulation
+    from cloth_tui.sim.run.runner import Simulation
     sim = Simulation(Scene().with_values({
         "cloth.resolution": 10, "behavior.solver": "xpbd", "behavior.tear": True,
         "material": {"preset": "denim", "tear_strength": 400.0}}))

@@ -4,7 +4,7 @@ import numpy as np
 
 from cloth_tui.tui.panels import format_value, parse_text
 from cloth_tui.tui.preview import CROSSHAIR, HALF, StyleCache, image_to_strips, resample
-from cloth_tui.sim.run_stats import RunStats
+from cloth_tui.sim.run.run_stats import RunStats
 from cloth_tui.tui.status import RateMeter, Readout
 
 

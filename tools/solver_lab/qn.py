@@ -11,7 +11,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 from energy import objective
 
-from cloth_tui.sim.bending import bending_hessian
+from cloth_tui.sim.fabric.bending import bending_hessian
 
 
 def fabric_matrix(model, h: float, alive=None, theta=1.0):

@@ -12,7 +12,7 @@ import scipy.sparse.linalg as sla
 sys.path.insert(0, "tools/solver_lab")
 from common import simulation
 
-from cloth_tui.sim.bending import bending_hessian
+from cloth_tui.sim.fabric.bending import bending_hessian
 
 for cells in map(int, sys.argv[1:]):
     t0 = time.perf_counter()

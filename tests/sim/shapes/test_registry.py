@@ -9,10 +9,10 @@ import pytest
 
 from cloth_tui.scene import OBJECT_TYPES, SceneError, SceneObject
 from cloth_tui.scene_files import loads
-from cloth_tui.sim import colliders
+from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.protocols import ObjectPose
-from cloth_tui.sim.shapes import SHAPES, UnknownShapeError, shape_of
+from cloth_tui.sim.collision.shapes import SHAPES, UnknownShapeError, shape_of
 
 TORUS_PLY = Path(__file__).parents[3] / "assets" / "meshes" / "torus.ply"
 CENTRE = (0.1, -0.2, 0.05)

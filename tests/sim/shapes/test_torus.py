@@ -6,10 +6,10 @@ import pytest
 
 from cloth_tui.scene import SceneError, SceneObject
 from cloth_tui.scene_files import loads
-from cloth_tui.sim import colliders
+from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.model import build_model
-from cloth_tui.sim.runner import Simulation
-from cloth_tui.sim.shapes import torus
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.collision.shapes import torus
 
 from ..helpers import run, scene
 

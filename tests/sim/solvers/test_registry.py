@@ -8,7 +8,7 @@ import pytest
 
 from cloth_tui.scene import Scene, SceneError
 from cloth_tui.sim import solvers
-from cloth_tui.sim.runner import Simulation
+from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.base import SolverBase, SolverSpec
 from cloth_tui.sim.solvers.xpbd.verlet import IntegrateVerlet, UpdateVelocities
 

@@ -5,7 +5,7 @@ Stiffness, damping and the speed limit are read from `params` each substep."""
 
 from __future__ import annotations
 
-from ...measures import spring_energy
+from ...run.measures import spring_energy
 from ...params import StepParams
 from ...protocols import Effect, ForceEffect
 from ..base import SolverBase

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...jit import kernel
-from ...stretch_curve import StrainStiffening
+from ...fabric.stretch_curve import StrainStiffening
 from .constraints import ProjectConstraints
 
 

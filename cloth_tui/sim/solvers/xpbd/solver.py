@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...measures import per_constraint, xpbd_elastic_energy
+from ...run.measures import per_constraint, xpbd_elastic_energy
 from ...params import StepParams
 from ...protocols import Effect, ForceEffect
 from ..base import SolverBase

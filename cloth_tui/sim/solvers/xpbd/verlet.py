@@ -10,9 +10,9 @@ import math
 
 
 from ...jit import kernel
-from ...material import damping_factor as decay_factor
+from ...fabric.material import damping_factor as decay_factor
 from ...params import StepParams
-from ...stages import damping_factor
+from ...effects.stages import damping_factor
 
 
 @kernel()

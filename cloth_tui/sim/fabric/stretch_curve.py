@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..materials.schema import Material
-from .jit import kernel
+from ...materials.schema import Material
+from ..jit import kernel
 from .material import ALONG_X, MIN_STIFFNESS, Grid, pair_kinds, strip_width
 
 

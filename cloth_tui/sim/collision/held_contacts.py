@@ -16,12 +16,12 @@ import dataclasses
 
 import numpy as np
 
-from ..scene import Scene, SceneError
+from ...scene import Scene, SceneError
 from .colliders import ORBIT_PERIOD, Floor, ShapeCollider, build_colliders, scene_objects
-from .forces import wave_rows
-from .model import ClothModel, build_model
-from .params import without_friction
-from .pins import hard_anchors, track_times
+from ..effects.forces import wave_rows
+from ..model import ClothModel, build_model
+from ..params import without_friction
+from ..effects.pins import hard_anchors, track_times
 
 WAVE_SAMPLES = 9  # heights of the wave's driven edge checked, from trough to crest
 # Places checked along a moving object's orbit (2π · 0.25 m round): 1.2 cm apart. A distance

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from ..jit import kernel
 
 COLLISION_FRACTION = 0.8  # D / spacing
 FLOAT32_MARGIN = 1e-6     # relative: above float32 rounding (2⁻²⁴ ≈ 6e-8) of |coordinates|

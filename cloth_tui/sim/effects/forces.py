@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from .jit import kernel
-from .params import StepParams
+from ..jit import kernel
+from ..params import StepParams
 
 AIR_DENSITY = 1.2            # kg/m³, air at sea level and 20 °C
 DRAG_COEFFICIENT = 1.2       # flat plate facing the flow (pressure drag; Hoerner ≈ 1.17–1.28)

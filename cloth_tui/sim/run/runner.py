@@ -12,23 +12,23 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..scene_keys import SceneError
-from . import pipeline
+from ...scene_keys import SceneError
+from .. import pipeline
 from .measures import (all_finite, energy, free_energy, gravitational_energy, kinetic_energy,
                        per_constraint, potential_floor, solve_error, stretch)
-from .held_contacts import check_held_particles, held_inputs_differ
-from .model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
+from ..collision.held_contacts import check_held_particles, held_inputs_differ
+from ..model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
 from .numerical_damping import DampingMeter, asked_loss, measurable, touching
-from .params import same_structure
-from .pins import with_user_pin
+from ..params import same_structure
+from ..effects.pins import with_user_pin
 from .run_stats import FrameStats, RunStats
-from .state import ClothState
+from ..state import ClothState
 from .substep_control import SubstepController
-from .solvers import registry
-from .tearing import cut_between, strength_tolerance, tear_strength
+from ..solvers import registry
+from ..effects.tearing import cut_between, strength_tolerance, tear_strength
 
 if TYPE_CHECKING:
-    from ..scene import Scene
+    from ...scene import Scene
 
 # What forces a rebuild of the model (topology, masses, pins) rather than only the step.
 MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",

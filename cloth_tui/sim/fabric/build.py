@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..materials.schema import Material
+from ...materials.schema import Material
 from .bending import (Stencils, bending_stencils, directional_bending_compliance,
                       stencil_rigidities)
 from .material import (Grid, cell_corners, cell_shear_compliance, lumped_masses,

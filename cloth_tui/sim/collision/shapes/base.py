@@ -18,7 +18,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ...scene_keys import key, vec3
+from ....scene_keys import key, vec3
 
 MAX_LENGTH = 1e6      # m: any object dimension or position beyond this is not a scene's
 MIN_DIRECTION = 1e-6  # a normal or axis shorter than this gives no direction

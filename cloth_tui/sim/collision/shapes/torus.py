@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from ...scene_keys import SceneError, key
+from ....scene_keys import SceneError, key
 from .base import AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, Shape, unit
 
 AROUND_RING = 64  # facets of the drawn surface around the axis

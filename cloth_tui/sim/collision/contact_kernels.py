@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from . import swept_contacts
-from .jit import kernel
+from ..jit import kernel
 from .shapes import box, capsule, cylinder, mesh, plane, sphere, torus
 
 # ---------------------------------------------------------------------------------------

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from ..scene import SceneObject
+from ...scene import SceneObject
 from .contact_kernels import (  # noqa: F401
     DISPATCHED,
     apply_coulomb_friction,
@@ -38,8 +38,8 @@ from .contact_kernels import (  # noqa: F401
     find_crossings,
     signed_distances,
 )
-from .params import FrictionSource, StepParams
-from .protocols import Collider, ObjectPose
+from ..params import FrictionSource, StepParams
+from ..protocols import Collider, ObjectPose
 from .shapes import SHAPES, Shape, plane, shape_of
 from .shapes.base import KernelInputs
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from ...scene_keys import key
+from ....scene_keys import key
 from .base import AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, RADIUS_KEY, Shape, turn_from_z, unit
 
 SIDES_DRAWN = 48  # facets around the rendered side

@@ -69,7 +69,7 @@ def object_keys() -> list[tuple[str, str, dataclasses.Field]]:
 def check_object(obj, where: str) -> None:
     """The shape's own checks of one validated SceneObject, and that it sets no key another
     shape keeps to itself; raises scene_keys.SceneError."""
-    from ...scene_keys import SceneError
+    from ....scene_keys import SceneError
     shape = shape_of(obj.type)
     for other in SHAPES.values():
         if other is shape:

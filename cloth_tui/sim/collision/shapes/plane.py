@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ...scene_keys import vec3
+from ....scene_keys import vec3
 from .base import DIRECTION, Shape, unit
 
 SINGLE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x

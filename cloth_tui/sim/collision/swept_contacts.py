@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import kernel
+from ..jit import kernel
 from .shapes import box, capsule, cylinder, mesh, plane, sphere, torus
 from .shapes.mesh import OUTSIDE
 

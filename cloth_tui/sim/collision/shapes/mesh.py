@@ -21,8 +21,8 @@ import math
 
 import numpy as np
 
-from ... import meshes
-from ...scene_keys import SceneError, key, vec3
+from .... import meshes
+from ....scene_keys import SceneError, key, vec3
 from .base import MAX_LENGTH, SURFACE, KernelInputs, Shape, ShapeValueError
 
 OUTSIDE = 1e9    # m: the distance reported beyond the grid, where nothing touches

@@ -8,12 +8,12 @@ import time
 from collections import deque
 from typing import TYPE_CHECKING, Callable
 
-from ..newest_slot import NewestSlot
+from ...newest_slot import NewestSlot
 from .run_stats import RunStats
 from .runner import Simulation, Snapshot
 
 if TYPE_CHECKING:
-    from ..scene import Scene
+    from ...scene import Scene
 
 MAX_CATCH_UP = 6  # frames (100 ms at 60 Hz) the thread may run back to back to keep time
 PAUSED_POLL_S = 0.25  # s: how long a paused thread sleeps when no command wakes it

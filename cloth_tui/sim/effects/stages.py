@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 
-from ..original import ORIGINAL_TIMESTEP
-from .jit import kernel
+from ...original import ORIGINAL_TIMESTEP
+from ..jit import kernel
 
 
 def damping_factor(damping: float, h: float) -> float:

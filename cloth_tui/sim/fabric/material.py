@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..materials.errors import MaterialError
-from ..materials.schema import Material
+from ...materials.errors import MaterialError
+from ...materials.schema import Material
 
 SHEAR_MODELS = ("cells", "springs")
 # The schema accepts any positive density and stiffness, down to 5e-324. Below these a

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ...scene_keys import SceneError, vec3
+from ....scene_keys import SceneError, vec3
 from .base import SIDES, Shape
 
 

@@ -33,12 +33,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .jit import kernel
-from .model import ClothModel
-from .state import ClothState
+from ..jit import kernel
+from ..model import ClothModel
+from ..state import ClothState
 
 if TYPE_CHECKING:
-    from ..scene import Scene
+    from ...scene import Scene
 
 
 @kernel(fastmath=False, inline="always")

@@ -21,12 +21,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .material import damping_factor as decay_factor
-from .model import ClothModel
-from .stages import damping_factor
+from ..fabric.material import damping_factor as decay_factor
+from ..model import ClothModel
+from ..effects.stages import damping_factor
 
 if TYPE_CHECKING:
-    from ..scene import Scene
+    from ...scene import Scene
 
 # A particle closer than this many skins to a collider may be in contact, whose friction and
 # inelastic contacts lose energy the numerical damping must not be blamed for.

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .jit import kernel
-from .params import StepParams
+from ..jit import kernel
+from ..params import StepParams
 
 RAIN_RADIUS = 1.5  # grid spacings: e-folding distance of the falloff
 RAIN_REACH = 3     # grid spacings: farthest neighbour a drop moves (w(3) ≈ 2 %)

@@ -46,11 +46,11 @@ import math
 
 import numpy as np
 
-from ..materials.schema import stiffness_at_tension
-from .jit import kernel
-from .material import ALONG_X, Grid, pair_kinds, strip_width
-from .model import ClothModel
-from .state import ClothState
+from ...materials.schema import stiffness_at_tension
+from ..jit import kernel
+from ..fabric.material import ALONG_X, Grid, pair_kinds, strip_width
+from ..model import ClothModel
+from ..state import ClothState
 
 # Tearing by strength asks the solve for the fabric's tension to this share of tear_strength:
 # the force estimates λ/h² and k·(L − L0) differ by the stretch modulus × the solve error

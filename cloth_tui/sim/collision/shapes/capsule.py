@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from ...scene_keys import SceneError, key
+from ....scene_keys import SceneError, key
 from . import box, plane
 from .base import (AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, RADIUS_KEY, Shape, default_of,
                    turn_from_z, unit)

@@ -1,0 +1,2 @@
+"""Contacts: the floor and one module per shape behind a registry (shapes/), swept contacts,
+self-collision, held particles."""
