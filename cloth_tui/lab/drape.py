@@ -4,10 +4,11 @@ its shadow covers, DC = (S − S_support)/(S_flat − S_support), and the folds 
 around the rim. A report: there is no analytic value, the lab checks the ranges and the
 ordering of the fabrics (a stiffer fabric drapes less, DC nearer 1).
 
-The specimen is a square sheet the disc's diameter across; the particles beyond the disc's
-radius are cut loose before the run (every constraint touching one leaves the solve) and
-fall away unseen, and the particles within the support's radius are held, as the meter's
-two discs clamp them."""
+The specimen is a square sheet the disc's diameter across. The triangles whose area makes
+the disc's (drape_shadow.specimen_triangles) are kept. Every other particle is cut loose
+before the run (every constraint touching one leaves the solve) and falls away unseen. The
+particles within the support's radius are held, as the meter's two discs clamp them. The
+coefficient is read from the shadow of the kept triangles (drape_shadow.shadow_area)."""
 
 from __future__ import annotations
 
