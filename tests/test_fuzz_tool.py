@@ -94,6 +94,18 @@ def test_classification():
     assert fuzz.classify(2, "", notice + "cloth-tui: error: x\n", doc)[0] == ["refused"]
 
 
+def test_a_sheet_that_starts_inside_the_floor_is_not_a_penetration():
+    # seed 40, scene 3: a sheet 798 m under the floor reported its start as its penetration
+    doc = {"cloth": {"height": -5.0, "pinned": "none", "resolution": 4},
+           "scene": {"floor_height": -0.5, "thickness": 0.005}}
+    assert abs(fuzz.start_depth(doc) - 4.5) < 1e-9
+    out = '{"finite": true, "penetration": %g, "halted": null}'
+    assert fuzz.classify(0, out % 5.7, "", doc)[0] == ["started_inside"]
+    above = {**doc, "cloth": {**doc["cloth"], "height": 0.25}}
+    assert fuzz.start_depth(above) == 0.0
+    assert fuzz.classify(0, out % 5.7, "", above)[0] == ["penetration"]
+
+
 def test_json_must_be_valid_and_finite_must_vouch_for_every_number():
     doc = {}
     nan = '{"finite": true, "penetration": 0, "energy": NaN, "min_y": 0}'

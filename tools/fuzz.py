@@ -12,6 +12,8 @@ Each run is classified:
   timeout       no result within --timeout seconds
   non_finite    exit 0 but positions are not finite
   penetration   deepest contact penetration beyond scene.thickness + 1 cm
+  started_inside  that penetration, where the flat sheet starts inside the floor or an
+                object: the measure counts the start and its first substep (not judged)
   halted        the guard gave up (divergence even at 16× the substeps), in a scene that
                 should be stable: a failure
   diverged      the guard gave up on springs with an explicit integrator whose substep is
@@ -373,14 +375,32 @@ def classify(code: int | None, out: str, err: str, doc: dict) -> tuple[list[str]
     elif any(k in stats and not isinstance(stats[k], (int, float)) for k in ALWAYS_NUMBERS):
         classes.append("false_finite")  # a number written as null, yet `finite` vouched
     thickness = doc.get("scene", {}).get("thickness", sc.SceneSection().thickness)
-    if (stats.get("penetration") or 0.0) > thickness + PENETRATION_SLACK:
-        classes.append("penetration")
+    depth = stats.get("penetration") or 0.0
+    if depth > thickness + PENETRATION_SLACK:
+        classes.append("started_inside" if start_depth(doc) > 0 else "penetration")
     if stats.get("halted"):
         classes.append("halted_at_rest" if at_rest(doc) else
                        "diverged" if unstable_even_at_the_guards_substeps(doc) else "halted")
     if err.strip():
         classes.append("stderr")
     return classes + alarms or ["ok"], stats
+
+
+def start_depth(doc: dict) -> float:
+    """How deep the flat sheet starts inside the floor or an object (its true surface; 0 if
+    outside them all), m. `penetration` then counts the start and the first substep's move
+    before the push out (a sheet 798 m under the floor reports 799 m), the scene's doing."""
+    import numpy as np
+
+    from cloth_tui.sim.collision.colliders import build_colliders
+    from cloth_tui.sim.model import build_model
+
+    scene = sc.from_dict(doc)
+    behavior = dataclasses.replace(scene.behavior, tethers=False)
+    model = build_model(scene.cloth, behavior, scene.pins)
+    x = model.rest_positions
+    return max([0.0] + [float(np.max(-c.signed_distance(x)))
+                        for c in build_colliders(scene, model)])
 
 
 def unstable_even_at_the_guards_substeps(doc: dict) -> bool:
@@ -452,7 +472,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in results:
             for c in r["classes"]:
                 counts[c] = counts.get(c, 0) + 1
-            if not set(r["classes"]) <= {"ok", "refused", "diverged"}:
+            if not set(r["classes"]) <= {"ok", "refused", "diverged", "started_inside"}:
                 failures.append(r)
             print(json.dumps(r) if args.json else
                   f"{r['index']:5d} {','.join(r['classes']):<24} {r['seconds']:6.1f}s "
