@@ -10,6 +10,7 @@ import numpy as np
 
 from ..scene import SceneError
 from ..scene_files import loads
+from ..sim.collision.shapes.base import vector
 from ..sim.protocols import ObjectPose
 from ..usage import UsageError
 from . import bake_checks as checks
@@ -97,7 +98,7 @@ class UsdBake:
                 flags = len(checks.alive_flags(self.path, frame,
                                                self._alive.Get(float(frame)), flags))
             for _, translate in self._objects:
-                if checks.vector(translate.Get(float(frame))) is None:
+                if vector(translate.Get(float(frame))) is None:
                     raise UsageError(f"{self.path}: frame {frame} places "
                                      f"{translate.GetPrim().GetPath()} at no finite point")
         self.flag_count = flags  # None: never torn
