@@ -75,8 +75,14 @@ class Step:
     def frame(self, state) -> None:
         if not self.effects:
             return  # integration off: the sheet is frozen, as in the original
-        for effect in self.frame_effects:
-            effect.apply(state, self.h * self.substeps)
+        if self.frame_effects:
+            before = state.x.copy()
+            for effect in self.frame_effects:
+                effect.apply(state, self.h * self.substeps)
+            # an impulse moves particles outside the substeps (a raindrop displaces its
+            # particle at once): its paths are swept like a substep's, so none goes through
+            for collider in self.colliders:
+                collider.sweep(state, before)
         for _ in range(self.substeps):
             self.substep(state)
 

@@ -55,6 +55,10 @@ class Collider(Effect, Protocol):
     def apply_friction(self, state: ClothState, h: float) -> None:
         ...
 
+    def sweep(self, state: ClothState, start: np.ndarray) -> None:
+        """Stop every particle whose move from `start` to state.x, made outside a substep
+        (a frame's impulse), came into the object, on the side it came from."""
+
     def penetration(self, x: np.ndarray) -> float:
         """Deepest any free particle is inside the true surface, m."""
 

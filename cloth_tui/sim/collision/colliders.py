@@ -127,6 +127,16 @@ class ShapeCollider:
         self._start[:] = state.x_prev
         self._start_t = state.t
 
+    def sweep(self, state, start):
+        if not self._sides_known:
+            self.side[:] = self.sides(start, self.center_at(state.t))
+            self._sides_known = True
+        self.params[0:3] = self.center = self.center_at(state.t)
+        scratch = np.zeros_like(self.depth)  # no contact of a substep: nothing for friction
+        collide_path(state.x, start, self.inv_mass, self.side, self.shape.code, self.params,
+                     self.grid, self.gradient, self.thickness, scratch, self.normal_at,
+                     np.zeros(3))
+
     def apply_friction(self, state, h):
         d = self.displacement(state.t, h)
         apply_coulomb_friction(state.x, state.x_prev, self.depth, self.normal_at, d[0], d[1],
