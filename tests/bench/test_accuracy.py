@@ -101,9 +101,10 @@ def test_the_physical_reference_is_the_elastica_per_solver():
     p = P.physical_study(links, A.run_serially(P.physical_calls(links)))
     from cloth_tui.scene import SOLVERS
 
-    ran = {q["solver"] for q in p["points"]}
+    ran = {q["solver"] for q in p["points"] + p["unsettled"]}
     assert "xpbd" in ran and {"pbd", "springs"} <= set(p["not_run"])
     assert ran | set(p["not_run"]) == set(SOLVERS) and not ran & set(p["not_run"])
+    assert all("did not settle" in q["unsettled"] for q in p["unsettled"])
     assert all("needs behavior.solver" in why for why in p["not_run"].values())
     coarse, fine = (next(q for q in p["points"] if q["links"] == n and q["solver"] == "xpbd")
                     for n in links)

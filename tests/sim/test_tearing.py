@@ -225,7 +225,7 @@ def test_the_torn_count_grows_in_one_place_only():
     writes = re.compile(r"\bstate\.torn\s*(\+|-)?=(?!=)")
     found = [str(p.relative_to(root)) for p in sorted(root.rglob("*.py"))
              if writes.search(p.read_text(encoding="utf-8"))]
-    assert found == ["sim/tearing.py"]
+    assert found == ["sim/effects/tearing.py"]
     assert writes.search("sim.state.torn += 3") and not writes.search("if state.torn == 0:")
 
 

@@ -142,7 +142,8 @@ def test_an_unreachable_scheduler_is_one_line(tmp_path, capsys):
 
 
 def test_help_loads_no_dask():
-    code = "import sys, cloth_tui.cli as c; c.build_parsers(); print('distributed' in sys.modules)"
+    code = ("import sys, cloth_tui.cli_args as c; c.build_parsers(); "
+            "print('distributed' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.stdout.strip() == "False", out.stderr
 
