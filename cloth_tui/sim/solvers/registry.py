@@ -1,7 +1,8 @@
 """The one list of solvers. The scene's `behavior.solver` choices, material validation, the
-lab, the runner, the bench and the docs all read it; nothing outside a solver's own folder
-names a solver. Adding one: a folder beside these with its SolverSpec, and one line below
-(or `register` at run time, as a test's toy solver does)."""
+lab, the runner, the bench and the docs read it rather than naming solvers (the catenary lab
+test and the bench's serial peer name pbd, whose rigid constraints they measure; the
+work-precision study's reference is the springs' RK4). Adding one: a folder beside these with
+its SolverSpec, and one line below (or `register` at run time, as a test's toy solver does)."""
 
 from __future__ import annotations
 
