@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 from ..usage import UsageError, check_output_path
+from .strips import specimen_problem
 from .study import LabError
 
 # the extras a test's runs report, shown as columns when present: key → (header, format)
@@ -84,36 +85,19 @@ def _refuse_material(experiment, material_name: str | None) -> None:
                          f"tests of a material (cantilever, peirce, drape)")
 
 
-def _specimen_problem(experiment, n: int, material, solver) -> str | None:
-    """Why the test's specimen at resolution `n` cannot be built (its scene refused), or
-    None: every case is built up to where its simulation would start, nothing run."""
-    from ..scene import SceneError
-    from .strips import SpecimenBuilt, specimen_only
-
-    for case in experiment.cases(material):
-        try:
-            with specimen_only():
-                experiment.measure(case, n, material, solver)
-        except SpecimenBuilt:
-            continue
-        except (SceneError, LabError) as e:
-            return str(e)
-    return None
-
-
 def check_resolutions(experiment, resolutions: list[int], material, solver) -> None:
     """Refuse, before any run, a resolution whose specimen the scene format cannot hold (the
     substeps a fine strip needs, the pins of a fine disc): in the user's terms, N and the
     range this test runs with this material, rather than a scene key the user never set,
     after the coarser resolutions have run for minutes."""
-    problems = {n: _specimen_problem(experiment, n, material, solver) for n in resolutions}
+    problems = {n: specimen_problem(experiment, n, material, solver) for n in resolutions}
     bad = [n for n in resolutions if problems[n]]
     if not bad:
         return
     lo, hi = experiment.min_resolution, bad[0] - 1  # the largest N that runs: bisection,
     while lo <= hi:                                 # the specimen's needs grow with N
         mid = (lo + hi) // 2
-        if _specimen_problem(experiment, mid, material, solver):
+        if specimen_problem(experiment, mid, material, solver):
             hi = mid - 1
         else:
             lo = mid + 1

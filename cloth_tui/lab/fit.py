@@ -165,22 +165,6 @@ def material_of(table: dict):
 
 # --- the runs ----------------------------------------------------------------------------------
 
-def specimen_problem(experiment, n: int, material, solver) -> str | None:
-    """Why the test's specimen at resolution `n` cannot be built for `material` (its scene
-    refused), or None: built up to where its simulation would start, nothing run."""
-    from ..scene import SceneError
-    from .strips import SpecimenBuilt, specimen_only
-
-    for case in experiment.cases(material):
-        try:
-            with specimen_only():
-                experiment.measure(case, n, material, solver)
-        except SpecimenBuilt:
-            continue
-        except (SceneError, LabError) as e:
-            return str(e)
-    return None
-
 
 def peirce_bending_length(material, solver: str) -> dict:
     """The virtual Peirce test on `material` at PEIRCE_LINKS: the overhang at the 41.5° line

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from ..usage import UsageError, check_output_path
+from .strips import specimen_problem
 from .study import LabError
 
 FIT_FLAGS = {"density": "--density", "bending_length": "--bending-length",
@@ -108,12 +109,12 @@ def _check_specimens(material, m, solver, resolution) -> None:
     from .clamped import PEIRCE
     from .drape import DRAPE
 
-    problem = fit.specimen_problem(PEIRCE, fit.PEIRCE_LINKS, material, solver)
+    problem = specimen_problem(PEIRCE, fit.PEIRCE_LINKS, material, solver)
     if problem:
         raise UsageError(f"--bending-length: the virtual Peirce test cannot run this fabric "
                          f"({problem})")
     if m.drape is not None:
-        problem = fit.specimen_problem(DRAPE, resolution, material, solver)
+        problem = specimen_problem(DRAPE, resolution, material, solver)
         if problem:
             raise UsageError(f"--drape: the drape test cannot run this fabric at {resolution} "
                              f"particles across ({problem})")

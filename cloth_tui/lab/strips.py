@@ -29,6 +29,24 @@ def specimen_only():
         _specimen_only = False
 
 
+def specimen_problem(experiment, n: int, material, solver) -> str | None:
+    """Why the test's specimen at resolution `n` cannot be built for `material` (its scene
+    refused), or None: every case is built up to where its simulation would start, nothing
+    run."""
+    from ..scene import SceneError
+    from .study import LabError
+
+    for case in experiment.cases(material):
+        try:
+            with specimen_only():
+                experiment.measure(case, n, material, solver)
+        except SpecimenBuilt:
+            continue
+        except (SceneError, LabError) as e:
+            return str(e)
+    return None
+
+
 def particles_across(width: float, length: float, segments: int) -> int:
     """Particles across a strip of `width` whose `length` has `segments` links: the count
     whose spacing is nearest the links' (at least 2: a sheet needs two rows)."""
