@@ -4,7 +4,7 @@ Prints the resident memory (RSS) at the start, after the warm-up and at the end,
 simulated and shown frame rates of the measured part.
 
     python tools/soak.py --seconds 600            # the 10-minute run of docs/app.md
-    python tools/soak.py --seconds 55 --json      # what tests/tui/test_memory_soak.py runs
+    python tools/soak.py --seconds 85 --warmup 25 --json  # what tests/tui/test_memory_soak.py runs
 
 The warm-up (`--warmup`, part of `--seconds`) records a short video once, so buffers of the
 video's picture size exist before the measurement starts. Rates come from the app's debug

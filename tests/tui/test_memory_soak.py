@@ -11,9 +11,13 @@ from pathlib import Path
 import pytest
 
 SOAK = Path(__file__).resolve().parents[2] / "tools" / "soak.py"
-SECONDS, WARMUP = 55.0, 20.0
+SECONDS, WARMUP = 85.0, 25.0
 LEAK_MB_PER_S = 0.2  # the smallest leak this test must catch
-BOUND_MB = 6.0       # below 0.2 MB/s × the 35 s measured
+# Below 0.2 MB/s × the 60 s measured (12 MB), above what a sound app shows: starting and
+# stopping a recording under load moves RSS by up to ~6 MB once (allocator arenas, the
+# encoder's buffers), and that step does not grow with the span, so a longer span parts the
+# two.
+BOUND_MB = 10.0
 
 
 def renderer_starts() -> bool:
