@@ -79,3 +79,17 @@ def test_a_strip_in_uniform_tension_tears_at_the_same_load_on_three_grids(subste
                 {"cloth.resolution": resolution})
             at = first_tear(Simulation(s), 45)
             assert at is not None and abs(at - 0.5) <= 0.05 * 0.5 + FRAME, (resolution, at)
+
+
+@pytest.mark.parametrize("adaptive,substeps", [(False, 4), (False, 32), (True, 1)])
+def test_lbfgs_tears_a_strip_in_uniform_tension_at_the_same_load_fixed_or_adaptive(
+        adaptive, substeps):
+    # lbfgs solves each step's implicit equilibrium, so its edge forces are the tension
+    # whatever the count: 4 fixed substeps tear where 32 do (xpbd's 4 fixed passes leave
+    # the tension short and do not tear, above), on three grids.
+    for resolution in ([5, 17], [9, 33], [13, 49]):
+        s = pulled_strip(adaptive, substeps).with_values(
+            {"cloth.resolution": resolution, "behavior.solver": "lbfgs",
+             "behavior.iterations": 2})
+        at = first_tear(Simulation(s), 45)
+        assert at is not None and abs(at - 0.5) <= 0.05 * 0.5 + FRAME, (resolution, at)
