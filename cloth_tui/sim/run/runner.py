@@ -1,82 +1,40 @@
 """Advancing whole frames: a synchronous `Simulation` (the step, the divergence guard, the
 accuracy controller, statistics and immutable snapshots). sim_thread.py runs one in real time
-on its own thread."""
+on its own thread. What new settings rebuild is rebuild_policy.py's; the guard's tests of a
+frame are guard.py's; the accuracy control's inputs are accuracy.py's; the user's gestures
+are gestures.py's; statistics and snapshots are reporting.py's."""
 
 from __future__ import annotations
 
-import dataclasses
-import math
 import time
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...scene_keys import SceneError
 from .. import pipeline
-from .measures import (all_finite, energy, free_energy, gravitational_energy, kinetic_energy,
-                       per_constraint, potential_floor, solve_error, stretch)
 from ..collision.held_contacts import check_held_particles, held_inputs_differ
-from ..model import ClothModel, build_model, nearest_pins, refitted, uses_tethers
-from .numerical_damping import DampingMeter, asked_loss, measurable, touching
-from ..params import same_structure
 from ..effects.pins import with_user_pin
-from .run_stats import FrameStats, RunStats
-from ..state import ClothState
-from .substep_control import SubstepController
+from ..model import build_model, nearest_pins, refitted
+from ..params import same_structure
 from ..solvers import registry
-from ..effects.tearing import cut_between, strength_tolerance, tear_strength
+from ..state import ClothState
+from . import gestures
+from .accuracy import SolveError, error_tolerance, measure_damping
+from .guard import (GUARD_EASE_FRAMES, MAX_GUARD_LEVEL, SPRING_DIVERGED, energy_scale, finite,
+                    frame_problem, halt_reason, max_stretch, stretch_converged, watches_energy)
+from .measures import energy, free_energy, potential_floor
+from .numerical_damping import DampingMeter, measurable
+from .rebuild_policy import MODEL_KEYS, has_energy_source, needs_new_model, scene_material
+from .reporting import Snapshot, measured_stats, snapshot_of
+from .run_stats import FrameStats, RunStats
+from .substep_control import SubstepController
 
 if TYPE_CHECKING:
     from ...scene import Scene
 
-# What forces a rebuild of the model (topology, masses, pins) rather than only the step.
-MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
-                                     "mass_model", "height")} | \
-             {("behavior", k) for k in ("structural", "shear", "bending", "seed",
-                                        "tethers", "wave")}
-SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
-# ... unless the same frame at twice the substeps ends this close to the same stretch: an
-# unstable step's stretch collapses when h halves, a load's (a heavy sheet, pins, a wave, a
-# moving object) stays.
-STRETCH_CONVERGED = 0.1
-# A force-based integrator going unstable pumps energy in. In a scene with no energy source
-# (wind, fields, rain, a wave, moving objects or pins) a frame may not gain more than this
-# share of the sheet's energy scale (M·g·size + its kinetic and elastic energy): damping,
-# contacts and a stable integrator only lose energy, an unstable one gains it exponentially.
-ENERGY_GAIN_DIVERGED = 0.05
-# deeper in a skin than this (share of it, m of rounding), a contact will push: _energy_scale
-OVERLAP_SHARE, OVERLAP_SLACK = 1e-3, 1e-9
-MAX_GUARD_LEVEL = 4  # a diverging frame is retried with up to 2**4 = 16× the substeps
-GUARD_EASE_FRAMES = 60  # frames between tries of half the substeps while recovering
-
-
-def _material(scene: Scene):
-    """The scene's material (materials.schema.Material), None for the original's keys."""
-    return None if scene.material is None else scene.material.material
-
-
-def has_energy_source(scene: Scene) -> bool:
-    """Whether anything in the scene may add energy to the sheet (besides the user)."""
-    f = scene.forces
-    return (f.wind or f.custom != "none" or f.rain or scene.behavior.wave
-            or (scene.scene.moving and scene.scene.object != "none")
-            or any(o.motion != "static" for o in scene.objects)
-            or any(g.keys for g in scene.pins))  # moving pin groups
-
-
-@dataclass(frozen=True)
-class Snapshot:
-    """What the renderer and the UI get each frame: copies, never the live arrays. `stats`
-    are complete only every STATS_INTERVAL s (see Simulation.snapshot)."""
-    positions: np.ndarray
-    frame: int
-    t: float
-    stats: RunStats
-    model: ClothModel
-    scene: Scene
-    objects: tuple = ()  # ObjectPose of every object, where it is at time t
-    alive: np.ndarray | None = None  # which constraints are intact; None: all (nothing torn)
+# Read from here by tools and tests that name the runner's rules.
+__all__ = ["MAX_GUARD_LEVEL", "MODEL_KEYS", "SPRING_DIVERGED", "Simulation", "Snapshot",
+           "has_energy_source"]
 
 
 class Simulation:
@@ -91,7 +49,7 @@ class Simulation:
         Otherwise the sheet goes on, but the recoveries and a halt were the old settings'.
         `held_checked`: the caller has run held_contacts.check_start on `scene`."""
         b = scene.behavior
-        new_model = build_model(scene.cloth, b, scene.pins, _material(scene)) if model \
+        new_model = build_model(scene.cloth, b, scene.pins, scene_material(scene)) if model \
             else self.model
         if not held_checked and (model or held_inputs_differ(self.scene, scene)):
             check_held_particles(scene, new_model)  # before any change: a refusal keeps all
@@ -110,7 +68,8 @@ class Simulation:
         self.halted: str | None = None  # why stepping stopped, if it did
         # Springs stretch as their stiffness says, whatever the step: there the tolerance is
         # reported, and substeps are the guard's business alone.
-        self.control = SubstepController(self._error_tolerance(), b.substeps, b.max_substeps,
+        self.control = SubstepController(error_tolerance(scene, self.model), b.substeps,
+                                         b.max_substeps,
                                          adaptive=b.adaptive and self._solves_constraints(),
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
@@ -125,17 +84,10 @@ class Simulation:
         """Whether the scene's solver leaves a solve error to bound (registry.SolverSpec)."""
         return registry.spec(self.scene.behavior.solver).solves_constraints
 
-    def _error_tolerance(self) -> float:
-        """behavior.error_tolerance, or tighter where the sheet tears by strength: tight
-        enough to know the tension to a tenth of the strength (tearing.strength_tolerance)."""
-        tol = self.scene.behavior.error_tolerance
-        strength = tear_strength(self.scene.behavior, self.model)
-        return tol if strength is None else min(tol, strength_tolerance(self.model, strength))
-
     def _build_step(self) -> None:
         self.step = pipeline.build(self.scene, self.model,
                                    self.control.substeps << self._guard_level)
-        self._alpha_tilde = None  # per constraint, for the step just built (when asked)
+        self._solve_error_of = SolveError()  # for the step just built
 
     def _find_nearest_pins(self) -> None:
         """Each particle's nearest hard pin and flat-sheet distance to it: what bounds how
@@ -156,13 +108,7 @@ class Simulation:
         if same_structure(scene, self.scene):
             self._retune(scene)
             return False
-        changed = {(s, f.name) for s in ("cloth", "behavior")
-                   for f in dataclasses.fields(getattr(scene, s))
-                   if getattr(getattr(scene, s), f.name) != getattr(getattr(self.scene, s), f.name)}
-        rebuild_model = bool(changed & MODEL_KEYS) or scene.pins != self.scene.pins \
-            or scene.material != self.scene.material \
-            or uses_tethers(scene.behavior, _material(scene)) \
-            != uses_tethers(self.scene.behavior, _material(self.scene))
+        rebuild_model = needs_new_model(scene, self.scene)
         self._rebuild(scene, model=rebuild_model, held_checked=held_checked)
         return rebuild_model
 
@@ -172,10 +118,10 @@ class Simulation:
         level run on, and the next substep reads the values. A halt was the old values'
         verdict, so stepping resumes; if it diverges again, the guard halts it again."""
         if scene.cloth != self.scene.cloth or scene.material != self.scene.material:
-            self.model = refitted(self.model, scene.cloth, _material(scene))
+            self.model = refitted(self.model, scene.cloth, scene_material(scene))
         self.scene = scene
         self.step.retune(scene, self.model)
-        self._alpha_tilde = None  # α̃ may have changed
+        self._solve_error_of.forget()  # α̃ may have changed
         self.damping_meter.forget()  # the energy's terms did (gravity): no damping across it
         self.halted = None
 
@@ -193,11 +139,12 @@ class Simulation:
         t0 = time.perf_counter()
         if self._finite():  # (a state broken between frames falls back further)
             self._good.restore(self.state)  # the frame's start, with bumps since the last
-        e0 = self._energy_scale() if self._watch_energy() else None
+        e0 = (energy_scale(self.model, self.state, self.scene, self.step)
+              if watches_energy(self.step, self._sources) else None)
         e_start = self.damping_meter.begin(self._damping_measurable(), self._energy)
         self._run_frame()
         while not self.halted:
-            problem = self._problem(e0)
+            problem = frame_problem(self.model, self.state, self.scene, self.step, e0)
             if problem == "overstretched" and self._stretch_converges():
                 problem = None
             if problem:
@@ -232,7 +179,9 @@ class Simulation:
 
     def _redo_for_accuracy(self, e_start: float | None) -> int | None:
         """Measure the frame's solve error and numerical damping and ask the controller."""
-        self._measure_damping(e_start)
+        measure_damping(self.damping_meter, e_start, self._energy, self.model, self._good,
+                        self.state, self.scene, self.step, self._pin_distance,
+                        self._nearest_pin)
         if not self.control.adaptive or not self.model.num_constraints:
             return None
         self.frame_error = self._solve_error()
@@ -248,24 +197,6 @@ class Simulation:
         return measurable(self.scene, self.model, self.step.solver, bool(self.step.effects),
                           self._sources, self._pin_distance is not None)
 
-    def _measure_damping(self, e_start: float | None) -> None:
-        """The numerical damping of the frame just run, where it can be told apart."""
-        if e_start is None or self.state.torn != self._good.torn \
-                or touching(self.step.colliders, self.state.x):
-            self.damping_meter.unmeasured()
-            return
-        floor = potential_floor(self.model, self._good, self.scene, self._pin_distance,
-                                self._nearest_pin)
-        if floor is None:
-            self.damping_meter.unmeasured()
-            return
-        m = self.model
-        asked = asked_loss(m, self.scene, self.step.h, self.step.substeps,
-                           kinetic_energy(m, self._good), kinetic_energy(m, self.state))
-        self.damping_meter.end(e_start, self._energy(), asked,
-                               free_energy(e_start, floor, m),
-                               1.0 / self.scene.behavior.frame_rate)
-
     def free_energy(self) -> float | None:
         """The energy the sheet could still give up now, J (measures.free_energy), or None
         where nothing bounds how low it can go."""
@@ -273,72 +204,25 @@ class Simulation:
                                 self._nearest_pin)
         return None if floor is None else free_energy(self._energy(), floor, self.model)
 
-    def _watch_energy(self) -> bool:
-        solver = self.step.solver
-        return solver is not None and solver.watches_energy and not self._sources
-
-    def _energy_scale(self) -> tuple[float, float]:
-        """(energy, scale) at the start of a frame, for the energy-gain check; no bound
-        (inf) where a contact will push a particle out of a skin at depth/h, a gain that
-        more substeps raise: growth from a source, not from the step."""
-        m, st, sc = self.model, self.state, self.scene
-        internal = kinetic_energy(m, st) + self.step.solver.elastic_energy(st)
-        g = sc.forces.gravity_strength if sc.forces.gravity else 0.0
-        scale = float(m.mass.sum()) * g * m.extent + internal + 1e-12
-        if self._overlapping():
-            scale = math.inf
-        return internal + gravitational_energy(m, st, sc), scale
-
-    def _overlapping(self) -> bool:
-        """A free particle deeper in a skin than contacts leave one (placed or bumped there)."""
-        free = self.model.inv_mass != 0.0
-        return any(c.signed_distance(self.state.x)[free].min(initial=math.inf)
-                   < c.thickness * (1.0 - OVERLAP_SHARE) - OVERLAP_SLACK
-                   for c in self.step.colliders)
-
+    # -- the divergence guard (guard.py) --------------------------------------------------
     def _finite(self) -> bool:
-        return all_finite(self.state.x, self.state.v)
-
-    def _problem(self, e0: tuple[float, float] | None) -> str | None:
-        """What is wrong with the frame just run, or None: not finite, or (a force-based
-        solver, whose `watches_energy`) energy gained from nowhere or, for explicit
-        integrators, a spring at over twice its rest length. Every solver clamps speeds to
-        max_speed, so speed shows nothing. A position-based step cannot run away while
-        finite (its prediction is clamped, projection and contacts only move particles
-        towards satisfied constraints and surfaces), and may legitimately stretch a lot at
-        few iterations; a force-based integrator going unstable shows as energy or as
-        stretch."""
-        if not self._finite():
-            return "not finite"
-        solver = self.step.solver
-        if solver is None or not solver.watches_energy:
-            return None
-        if e0 is not None:
-            e_start, scale = e0
-            if self._energy() - e_start > ENERGY_GAIN_DIVERGED * scale:
-                return "energy gained"
-        if solver.may_overstretch_unstably and self._max_stretch() > SPRING_DIVERGED:
-            return "overstretched"
-        return None
-
-    def _max_stretch(self) -> float:
-        return stretch(self.model, self.state.x, self.state.alive)[0]
+        return finite(self.state)
 
     def _stretch_converges(self) -> bool:
         """Run the frame again from its start at twice the substeps: the stretch the scene's
-        loads impose stays (within STRETCH_CONVERGED), an unstable step's collapses. The
-        frame's own result is kept either way; the check's run is a trial."""
-        s1 = self._max_stretch()
+        loads impose stays (within guard.STRETCH_CONVERGED), an unstable step's collapses.
+        The frame's own result is kept either way; the check's run is a trial."""
+        s1 = max_stretch(self.model, self.state)
         self._trial.restore(self.state)
         self.state.restore(self._good)
         self._guard_level += 1
         self._build_step()
         self._run_frame()
-        s2 = self._max_stretch() if self._finite() else math.inf
+        s2 = max_stretch(self.model, self.state) if self._finite() else float("inf")
         self._guard_level -= 1
         self._build_step()
         self.state.restore(self._trial)
-        return abs(s2 - s1) <= STRETCH_CONVERGED * s1
+        return stretch_converged(s1, s2)
 
     def _recover(self) -> None:
         self.recoveries += 1
@@ -346,27 +230,17 @@ class Simulation:
         if self._guard_level >= MAX_GUARD_LEVEL:
             # Even 16× the substeps diverges: hold the last good state and say why, rather
             # than show garbage or restart the sheet every frame.
-            self.halted = (f"the step diverges even at {self.step.substeps} substeps per "
-                           f"frame; {self.step.solver.halt_advice()}, then restart")
+            self.halted = halt_reason(self.step)
             return
         self._guard_level += 1
         self._build_step()
         self._run_frame()
 
+    # -- gestures (gestures.py) -----------------------------------------------------------
     def bump(self, particle: int, displacement, radius: float = 1.5) -> None:
-        """Push one particle, and its grid neighbours less (Gaussian falloff of `radius`
-        spacings), giving them the velocity of moving that far in one frame."""
-        m = self.model
-        d = np.asarray(displacement, dtype=np.float64)
-        i0, j0 = divmod(int(particle), m.nx)
-        r = int(np.ceil(2 * radius))
-        ii, jj = np.meshgrid(np.arange(max(0, i0 - r), min(m.nz, i0 + r + 1)),
-                             np.arange(max(0, j0 - r), min(m.nx, j0 + r + 1)), indexing="ij")
-        idx = (ii * m.nx + jj).ravel()
-        w = np.exp(-((ii - i0) ** 2 + (jj - j0) ** 2).ravel() / (radius * radius))
-        w[m.inv_mass[idx] == 0.0] = 0.0
-        self.state.x[idx] += w[:, None] * d
-        self.state.v[idx] += w[:, None] * d * self.scene.behavior.frame_rate
+        """Push one particle, and its grid neighbours less (gestures.bump)."""
+        gestures.bump(self.model, self.state, particle, displacement, radius,
+                      self.scene.behavior.frame_rate)
         self.damping_meter.forget()  # the user's push is no numerical damping
 
     def pin(self, particle: int, position) -> None:
@@ -374,51 +248,24 @@ class Simulation:
         gesture; a restart brings back the scene's pins alone). Raises SceneError, changing
         nothing, where a held particle may not be: in the floor or an object's skin, or on a
         particle a soft or moving group places."""
-        s = self.scene.scene
-        if s.floor and float(position[1]) < s.floor_height + s.thickness:
-            raise SceneError(f"a pin at height {float(position[1]):.3g} m would hold the "
-                             f"particle inside the floor (scene.floor_height = "
-                             f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m)")
+        gestures.check_pin_height(self.scene.scene, position)
         model, slot = with_user_pin(self.model, int(particle), position)
         check_held_particles(self.scene, model)
-        st = self.state
-        p = np.asarray(position, np.float64)
-        if slot == len(st.anchors):
-            st.anchors = np.vstack([st.anchors, p])
-        st.anchors[slot] = p
-        st.x[particle] = st.x_prev[particle] = p
-        st.v[particle] = 0.0
+        gestures.hold(self.state, particle, slot, position)
         self.model = model
-        self._good, self._trial = st.copy(), st.copy()
+        self._good, self._trial = self.state.copy(), self.state.copy()
         self._find_nearest_pins()
         self.damping_meter.forget()  # the pin moved a particle: a jump no step made
         self._build_step()
 
     def cut(self, p0: int, p1: int) -> int:
-        """Cut the sheet between two particles (tearing.cut_between); returns how many
-        constraints were cut. A restart heals the sheet."""
-        n = self.model.num_particles
-        if not (0 <= int(p0) < n and 0 <= int(p1) < n):
-            return 0
-        return cut_between(self.model, self.state, int(p0), int(p1))
+        """Cut the sheet between two particles (gestures.cut); returns how many constraints
+        were cut. A restart heals the sheet."""
+        return gestures.cut(self.model, self.state, p0, p1)
 
-    # -- reporting ------------------------------------------------------------------------
-    def _alpha_tilde_now(self) -> np.ndarray:
-        """α̃ = α/h² of the step's constraints, one per constraint (0 for rigid ones and
-        springs), made again only when the solver's is another (a measured fabric's edges
-        take a new α each substep: sim/stretch_curve.py)."""
-        solver = self.step.solver
-        source = 0.0 if solver is None else solver.alpha_tilde
-        if self._alpha_tilde is None or source is not self._alpha_tilde_of:
-            self._alpha_tilde = per_constraint(source, self.model.num_constraints)
-            self._alpha_tilde_of = source
-        return self._alpha_tilde
-
+    # -- reporting (reporting.py) ---------------------------------------------------------
     def _solve_error(self) -> float:
-        solver = self.step.solver  # pbd keeps a λ array too (zeros), so nothing is allocated
-        lambdas = None if solver is None else solver.lambdas
-        return solve_error(self.model, self.state.x, self.state.alive, lambdas,
-                           self._alpha_tilde_now())
+        return self._solve_error_of.measure(self.model, self.step, self.state)
 
     def _energy(self) -> float:
         return energy(self.model, self.state, self.scene, self.step.solver)
@@ -439,34 +286,18 @@ class Simulation:
 
     def stats(self) -> RunStats:
         """Every statistic, the costly ones measured now."""
-        x = self.state.x
-        finite = self._finite()
-        max_s, mean_s = (stretch(self.model, x, self.state.alive) if finite
-                         else (float("nan"),) * 2)
-        speed = np.sqrt(np.einsum("ij,ij->i", self.state.v, self.state.v))
-        error = self._solve_error() if finite and self._solves_constraints() else None
+        is_finite = self._finite()
+        error = self._solve_error() if is_finite and self._solves_constraints() else None
         energy_tolerance = self.control.energy_tolerance
         if not self.control.adaptive:  # (adaptive: the controller's verdict, per frame)
             self._measured_met = (None if error is None and energy_tolerance is None
                                   else self.control.meets(error or 0.0))
-        return RunStats(
-            measured=True,
-            particles=self.model.num_particles, constraints=self.model.num_constraints,
-            finite=finite, min_y=float(x[:, 1].min()), max_speed=float(speed.max()),
-            max_stretch=max_s, mean_stretch=mean_s, solver=self.scene.behavior.solver,
-            error=error,
-            # springs have no constraint solve to be off its equilibrium: nothing to bound
-            error_tolerance=None if error is None else self.control.tolerance,
-            energy_tolerance=energy_tolerance, energy=self._energy(),
-            penetration=self.penetration, effects=tuple(self.step.names),
-            material=None if self.scene.material is None else self.scene.material.name,
-        ).refreshed(self.frame_stats())
+        return measured_stats(self.model, self.state, self.scene, self.step, is_finite, error,
+                              self.control.tolerance, energy_tolerance, self._energy(),
+                              self.penetration).refreshed(self.frame_stats())
 
     def snapshot(self, stats: RunStats | None = None) -> Snapshot:
         """A snapshot with full statistics, or with `stats` (an earlier full set, or
         `RunStats()` for none) refreshed by this frame's cheap ones."""
         stats = self.stats() if stats is None else stats.refreshed(self.frame_stats())
-        poses = tuple(p for p in (c.pose(self.state.t) for c in self.step.colliders) if p)
-        alive = self.state.alive.copy() if self.state.torn else None
-        return Snapshot(self.state.x.copy(), self.frames, self.state.t, stats,
-                        self.model, self.scene, poses, alive)
+        return snapshot_of(self.model, self.state, self.scene, self.step, self.frames, stats)
