@@ -1,5 +1,5 @@
 """The Fabric group's values as a person reads them: a fabric's numbers in the units textile
-data use (g/m², N/m, µN·m, 1/s), converted to and from the `[material]` table's SI keys,
+data use (g/m², N/m, µN·m, 1/s, mm), converted to and from the `[material]` table's SI keys,
 and the validator that checks a typed value in those units. No widgets here.
 
 Each field is declared as a scene key is (scene_keys.key), so the panel's rows are
@@ -41,13 +41,16 @@ SHOWN = {
     "bending": Shown("bending", 1e6, "µN·m"),
     "damping": Shown("damping", 1.0, "1/s"),
     "tear_strength": Shown("tear_strength", 1.0, "N/m"),
+    "tear_length": Shown("tear_length", 1000.0, "mm"),
 }
 DOCS = {"weight": "areal density (the label's g/m²): the sheet's mass is weight × area",
         "stretch_warp": "tensile stiffness along the warp (x): N per metre of width per "
                         "unit strain",
         "stretch_weft": "tensile stiffness along the weft (z)",
         "tear_strength": "tension per unit width at which the fabric tears, with "
-                         "behavior.tear (empty: none; the sheet tears by tear_stretch)"}
+                         "behavior.tear (empty: none; the sheet tears by tear_stretch)",
+        "tear_length": "the width across which the tension is averaged before it is "
+                       "compared with tear strength: a few yarns (5 mm unless set)"}
 
 
 def _declare(name: str, shown: Shown) -> tuple[str, str, Any]:

@@ -28,7 +28,7 @@ FABRIC_ROWS = [
                          "source) and \"original\", the unitless sheet: ↑ ↓ and Enter, or a "
                          "click, picks one"),
     ("its values", "weight g/m², stretch warp and weft N/m, shear N/m, bending µN·m, "
-                   "damping 1/s, tear strength N/m: edited as any field"),
+                   "damping 1/s, tear strength N/m, tear length mm: edited as any field"),
     ("with a fabric on", "mass, compliance, damping and the springs' keys say \"by the "
                          "fabric\": it replaces them; opening another scene keeps it unless "
                          "that scene names its own; Restore defaults gives the scene's own"),

@@ -223,3 +223,30 @@ def test_a_measured_presets_stiffening_and_directions_are_told_and_typing_makes_
             await pilot.pause(0.1)
             assert not app.query_one("#fabric-measured").display
     run(go())
+
+
+def test_the_tear_length_is_shown_in_mm_and_edited_like_the_other_values(tmp_path):
+    async def go():
+        app = make_app(tmp_path, Scene().with_value("material.preset", "denim"))
+        async with app.run_test(size=SIZE) as pilot:
+            await _open_fabric_group(app, pilot)
+            assert _row_text(app, "fabric.tear_length") == "tear length 5 mm"  # the default
+            field = app.query_one("#" + widget_id("fabric.tear_length"), Input)
+            field.focus()
+            field.value = "2.5"
+            await pilot.press("enter")
+            await until(pilot, lambda: app.scene.material.material.tear_length == 0.0025,
+                        what="tear length applied")
+            assert app.scene.material.table == {"preset": "denim", "tear_length": 0.0025}
+            await until(pilot, lambda: sim_scene(app).material.material.tear_length == 0.0025,
+                        what="the simulation's fabric")
+            assert "tear length set here" in str(app.query_one("#fabric-title").content)
+            field.focus()
+            field.value = "2000"  # 2 m: beyond the key's 1 m
+            await pilot.press("enter")
+            await pilot.pause(0.1)
+            assert field.value == "2.5"  # the last good value
+            assert app.scene.material.material.tear_length == 0.0025
+            assert any("tear length = 2000 is not allowed" in m and "mm" in m
+                       for m in notifications(app))
+    run(go())
