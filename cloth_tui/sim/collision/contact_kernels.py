@@ -172,7 +172,8 @@ def find_crossings(start, end, inv_mass, side, code, p, grid, gradient, moved, e
                    entry_normal, crossed):
     """A particle whose substep path start → end (`moved` the object's displacement over it,
     p its centre at the end) went through the object to its far side, which the contacts let
-    pass: crossed[i], with where it went in (object frame) and the outward normal there."""
+    pass: crossed[i], with where it went in (object frame) and the outward normal there. A
+    path sliding along the skin, however long, did not go in."""
     for_shape(code, _crossings, (start, end, inv_mass, side, p, grid, gradient, moved, code,
                                  entry, entry_normal, crossed))
 

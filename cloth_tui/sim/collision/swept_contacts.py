@@ -39,6 +39,7 @@ BELOW = 1e-5      # m: how far below its level a path may go (a surface without 
 BEYOND_GRID = 0.5 * OUTSIDE  # a mesh distance this large is "outside the grid"
 THROUGH = 1e-4    # m inside the surface: a path this deep went into the object
 LONGEST_PATH = 1e3  # m: a substep path longer than this is a diverging step's, not checked
+GRAZE_RESUMES = 64  # walks of MAX_STEPS a crossing check may take along one path
 
 
 _sphere = kernel(inline="always")(sphere.distance)
@@ -193,6 +194,18 @@ def crossed_by(code, p, side, grid, gradient, sx, sy, sz, ex, ey, ez, d_end):
     d_start, _, _, _ = distance_at(code, sx, sy, sz, p, side, grid, gradient)
     if d_start < 0.0:
         return 2.0, 0.0, 1.0, 0.0
-    t, _, nx, ny, nz = first_approach(code, p, side, grid, gradient, sx, sy, sz, ex, ey, ez,
-                                      -THROUGH, STOP)
-    return t, nx, ny, nz
+    # A walk that ran out of steps along a graze (a particle sliding along the skin) is
+    # resumed from where it got: only a point that came within STOP of the level went in.
+    t = 0.0
+    for _ in range(GRAZE_RESUMES):
+        ax = sx + t * (ex - sx)
+        ay = sy + t * (ey - sy)
+        az = sz + t * (ez - sz)
+        u, d, nx, ny, nz = first_approach(code, p, side, grid, gradient, ax, ay, az, ex, ey,
+                                          ez, -THROUGH, STOP)
+        if u > 1.0:
+            return 2.0, 0.0, 1.0, 0.0
+        t += u * (1.0 - t)
+        if d + THROUGH < STOP:
+            return t, nx, ny, nz
+    return 2.0, 0.0, 1.0, 0.0  # a graze longer than the resumes: it never went in
