@@ -117,7 +117,9 @@ def cmd_app(args) -> int:
     _build_mesh_grids(scene)
     graphics = _detect_graphics(args)
     from .tui.app import run_app
-    return run_app(scene, Path(args.captures), graphics=graphics)
+    from .tui.graphics.detect import in_browser
+    return run_app(scene, Path(args.captures), graphics=graphics,
+                   start_when_shown=in_browser(os.environ))
 
 
 def _build_mesh_grids(scene) -> None:

@@ -78,7 +78,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
                  start_paused: bool = False, freeze_gc: bool = False,
-                 graphics: Graphics | None = None) -> None:
+                 graphics: Graphics | None = None, start_when_shown: bool = False) -> None:
         super().__init__()
         self.graphics = graphics or Graphics("blocks")  # colors: truecolor
         if graphics is not None and "TEXTUAL_COLOR_SYSTEM" not in os.environ:
@@ -91,6 +91,9 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self.captures_dir = Path(captures_dir)
         self.renderer_factory = renderer_factory or default_renderer_factory
         self.start_paused = start_paused
+        # In a browser the page shows the first picture seconds after the app starts: the
+        # simulation waits for it, so a visitor sees the sheet fall rather than lie settled.
+        self._start_when_shown = start_when_shown and not start_paused
         self._freeze_gc = freeze_gc  # after the first frame: start-up done
         self._preview_widget: Preview | None = None
         self._halt_told: str | None = None  # the runner's halt reason already notified
@@ -162,7 +165,9 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         except Exception as e:  # no GL, no renderer: the app still simulates
             self.renderer = None
             self._show_no_preview(f"{type(e).__name__}: {e}")
-        self._start_sim(paused=self.start_paused)
+        if self.renderer is None:
+            self._start_when_shown = False  # no picture will come
+        self._start_sim(paused=self.start_paused or self._start_when_shown)
         self.set_interval(0.2, self._refresh_status)
         self.set_timer(FREEZE_GC_AFTER_S, self._freeze_start_up)  # if no frame comes
 
@@ -230,6 +235,9 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
             self._debug.write(f"{t0:.4f} frame {frame.frame} render_ms {frame.render_ms:.2f} "
                               f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
         self._freeze_start_up()
+        if self._start_when_shown and self.sim is not None:
+            self._start_when_shown = False
+            self.sim.pause(False)
         if not self._crosshair_placed and self.renderer is not None:
             self._crosshair_placed = self._place_crosshair()
 
@@ -320,6 +328,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
             self._debug.write(f"{time.perf_counter():.4f} {text}\n")
 
     def action_pause(self) -> None:
+        self._start_when_shown = False  # the user's choice, from now on
         if self.sim is not None:
             self.sim.pause(not self.sim.paused)
         self._refresh_status()
