@@ -116,3 +116,20 @@ def test_a_tolerance_that_underflowed_to_zero_raises_to_the_cap_and_never_raises
         assert c.accept(1e-3, damping=1e-3) == 64
     assert c.met is False
     assert SubstepController(tolerance=0.0, floor=4, cap=64).meets(0.0)  # an exact solve does
+
+
+def test_a_burst_of_damping_after_a_quiet_while_raises_within_a_few_frames():
+    # a swing's free edge whipping round: 0.3/s for a few frames after two quiet seconds
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
+    for _ in range(100):
+        c.accept(0.001, damping=0.005)
+    for k in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=0.3)
+    assert c.substeps > 4
+
+
+def test_energy_made_is_bounded_as_energy_lost_is():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
+    for _ in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=-0.2)
+    assert c.substeps > 4 and not c.met

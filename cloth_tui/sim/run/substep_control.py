@@ -18,14 +18,18 @@ With an energy tolerance τ_E, the numerical damping d (the share of the sheet's
 lost per second that no damping key asked for; the runner measures it per frame) is bounded
 too. One frame's d is not a measure of the step: a swing trades kinetic for potential
 energy, and the last substep's velocity misreads the kinetic part by ± a large share, so
-the control acts on the mean d̄ over the frames since the count last changed, and redoes
-nothing (the energy a frame lost is not the frame's error alone):
+the control acts on means over several frames, and redoes nothing (the energy a frame lost
+is not the frame's error alone). Energy made (d < 0, a second-order step whose solve stops
+early) is bounded as energy lost is, by |d̄|:
 
-- after at least ENERGY_FRAMES such frames with d̄ > τ_E, the next frames get
-  n' = ⌈n · d̄ · ENERGY_SAFETY/τ_E⌉ (at least n + 1, at most MAX_RAISE·n, never above the cap); d
+- when the mean over the last ENERGY_FRAMES of those frames exceeds τ_E, the next frames
+  get n' = ⌈n · d̄ · ENERGY_SAFETY/τ_E⌉ with d̄ that recent mean (at least n + 1, at most
+  MAX_RAISE·n, never above the cap): a burst is met within a few frames, where the mean
+  since the last change would take as long to rise as the quiet frames before it; d
   falls about as h (measured on a swinging sheet: roughly as n^−0.8), so taking it as order
   1 raises a little more than needed rather than less;
-- the lowering above also keeps n · d̄ · ENERGY_SAFETY/τ_E, and waits ENERGY_SLACK_FRAMES instead:
+- the lowering above also keeps n · d̄ · ENERGY_SAFETY/τ_E, d̄ the mean since the count last
+  changed, and waits ENERGY_SLACK_FRAMES instead:
   the damping comes in bursts (a swing's free edge whipping round), which a quiet
   half-second does not foresee.
 
@@ -35,7 +39,7 @@ Plain Python, no kernels: the runner measures e and d and asks.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 SAFETY = 1.25      # aim a little under the tolerance, so a raised frame rarely needs a redo
 MAX_RAISE = 4      # at most ×4 substeps per redo: a single wild frame cannot jump to the cap
@@ -63,6 +67,7 @@ class SubstepController:
     window_error: float = 0.0    # worst error over those frames
     damping_sum: float = 0.0     # Σ d over those of them where it was measured
     damping_frames: int = 0      # how many they are
+    recent: list = field(default_factory=list)  # d of the last ENERGY_FRAMES of them
 
     def __post_init__(self) -> None:
         self.cap = max(self.cap, self.floor)
@@ -73,12 +78,19 @@ class SubstepController:
         """d̄ over the frames since the count last changed (None: none measured)."""
         return self.damping_sum / self.damping_frames if self.damping_frames else None
 
-    def _energy_need(self, margin: float = 1.0) -> float:
-        """d̄·margin/τ_E: the factor on the substeps that meets τ_E/margin (0: unbounded)."""
+    def _energy_need(self, margin: float = 1.0, recent: bool = False) -> float:
+        """|d̄|·margin/τ_E: the factor on the substeps that meets τ_E/margin (0: unbounded),
+        d̄ the mean since the count last changed, or with `recent` over the last
+        ENERGY_FRAMES frames (0 until there are so many). Energy made (d̄ < 0: a
+        second-order step whose solve stops early) is bounded as energy lost is: both are
+        the step's error."""
         d = self.mean_damping
+        if recent:
+            d = (sum(self.recent) / len(self.recent)
+                 if len(self.recent) >= ENERGY_FRAMES else None)
         if self.energy_tolerance is None or d is None:
             return 0.0
-        return _ratio(max(d, 0.0) * margin, self.energy_tolerance)
+        return _ratio(abs(d) * margin, self.energy_tolerance)
 
     def _error_need(self, error: float, margin: float = 1.0) -> float:
         return math.sqrt(_ratio(max(error, 0.0) * margin, self.tolerance))
@@ -91,6 +103,7 @@ class SubstepController:
         self.substeps = substeps
         self.slack_frames = self.damping_frames = 0
         self.window_error = self.damping_sum = 0.0
+        self.recent.clear()
 
     def _raised(self, need: float) -> int:
         factor = min(MAX_RAISE, need * SAFETY)
@@ -111,15 +124,15 @@ class SubstepController:
         if damping is not None:
             self.damping_sum += damping
             self.damping_frames += 1
+            self.recent.append(damping)
+            del self.recent[:-ENERGY_FRAMES]
         self.met = self.meets(error)
         if not self.adaptive:
             return self.substeps
         self.slack_frames += 1
         self.window_error = max(self.window_error, error)
-        energy_need = self._energy_need()
-        if (energy_need > 1.0 and self.damping_frames >= ENERGY_FRAMES
-                and self.substeps < self.cap):
-            self._set(self._raised(self._energy_need(ENERGY_SAFETY) / SAFETY))
+        if self._energy_need(recent=True) > 1.0 and self.substeps < self.cap:
+            self._set(self._raised(self._energy_need(ENERGY_SAFETY, recent=True) / SAFETY))
         elif self.slack_frames >= (SLACK_FRAMES if self.energy_tolerance is None
                                    else ENERGY_SLACK_FRAMES):
             need = max(self._error_need(self.window_error, SAFETY),
