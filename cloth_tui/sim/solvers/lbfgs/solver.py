@@ -3,22 +3,25 @@
 
 One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and pins):
     integrate    the force effects add to state.accel; integrate_verlet predicts
-                 y = x + (1−D)·v·h + a·h² (xpbd's prediction)
-    solve        from x = y, `iterations` L-BFGS steps on Φ(x) = |x − y|²_M/(2h²) + E(x):
+                 y = x + (1−D)·v·h + a·h² (xpbd's prediction), or with BDF2 (bdf2.py)
+                 predict_bdf2 its y over a step of h' = 2h/3
+    solve        from x = y, `iterations` L-BFGS steps on Φ(x) = |x − y|²_M/(2h'²) + E(x):
                  d = −H g (two loops over the last HISTORY pairs, H₀ = P⁻¹, the pairs kept
                  from substep to substep until P is refactored or a direction fails to
                  descend), x += t·d with t halved until Φ falls enough (Armijo); each
                  edge's λ then holds its force
-    velocities   update_velocities: v ← (x − x_prev)/h
+    velocities   update_velocities: v ← (x − x_prev)/h (BDF2: v ← (x − x̂)/h')
 Its minimum is implicit Euler's step on the material's own energy, so the sheet settles where
 the fabric's equilibrium is at any iteration count (a step that stops early stops at a lower
 Φ on the way there: it slows the motion, it does not move the rest state). What stopping
 early costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
-measures both on an undamped sheet).
+measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
+is the step when the scene bounds numerical damping (behavior.energy_tolerance) and leaves
+behavior.integrator at auto.
 
-The frame's accuracy is set by `iterations` and the substeps: the spec says it leaves no
-solve error for the accuracy control (λ here is the solved step's force, so xpbd's error
-|C + α̃λ| would read zero whatever the solve); `imbalance` is the measure to bound instead.
+The frame's solve error (`LBFGSSolver.solve_error`, which the accuracy control bounds) is the
+last iteration's largest move over the shortest rest length: λ here is the solved step's
+force, so xpbd's error |C + α̃λ| would read zero whatever the solve.
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from .step_energy import (
     step_objective,
     step_to,
 )
+from .bdf2 import STEP_SHARE, PredictBDF2, VelocitiesBDF2
 from .step_matrix import factor, step_matrix
 
 HISTORY = 5        # L-BFGS pairs kept: more buys little once P carries the low frequencies
@@ -49,15 +53,21 @@ KEEP_HISTORY = True
 REFACTOR_AFTER_TEAR = 30  # substeps between refactorings while the sheet tears
 
 
+def bdf2_for(behavior) -> bool:
+    """Whether the substeps are BDF2 (bdf2.py), not implicit Euler."""
+    return behavior.integrator == "auto" and behavior.energy_tolerance > 0
+
+
 class SolveImplicitStep:
     """The solve stage (module docstring). `lambdas` (N·s², model.edges order) are each
     edge's force of the solved step as an XPBD multiplier, for tearing by strength."""
 
     name = "solve_implicit_step"
 
-    def __init__(self, model, iterations: int, compliance: float, theta: float = 1.0):
+    def __init__(self, model, iterations: int, compliance: float, step_share: float = 1.0):
         self.iterations = iterations
-        self.theta = theta
+        self.step_share = step_share  # the implicit step's length over the substep's
+        self._last_step = None  # the last iteration's move (or the one it could not take)
         self._h = None
         self._lu = None
         self.lambdas = np.zeros(model.num_constraints)
@@ -122,7 +132,7 @@ class SolveImplicitStep:
         self._h = h
         self._count = 0
         self.mass_h2 = np.ascontiguousarray(m.mass / (h * h))
-        self._lu = factor(step_matrix(m, self.k_edge * state.alive, self.k_sten, h, self.theta))
+        self._lu = factor(step_matrix(m, self.k_edge * state.alive, self.k_sten, h, 1.0))
         self._torn_factored = state.torn
         self._since_factor = 0
 
@@ -134,31 +144,31 @@ class SolveImplicitStep:
         if len(self.sten_edges):
             self.sten_alive[:] = intact[self.sten_edges].all(axis=1)
 
-    def objective(self, x, y, alive, grad, want_grad: bool, theta: float) -> float:
+    def objective(self, x, y, alive, grad, want_grad: bool) -> float:
         m = self.model
         return step_objective(x, y, self.mass_h2, m.inv_mass, m.edges, m.rest_length,
                               self.k_edge, alive, self.cells, self.cell_alive, self.k_cell,
                               self.scale, self.sten_p, self.sten_c, self.k_sten,
-                              self.sten_alive, theta, grad, want_grad)
+                              self.sten_alive, 1.0, grad, want_grad)
 
     def elastic_energy(self, x, alive) -> float:
-        """J: E(x), the material's energy at x (no inertia term: y = x)."""
-        if self._h is None:
-            return 0.0
-        return self.objective(x, x, alive, self._g_new, False, 1.0)
+        """J: E(x), the material's energy at x (no inertia term: y = x, so the masses it is
+        weighed with are any)."""
+        m = self.model
+        return step_objective(x, x, m.mass, m.inv_mass, m.edges, m.rest_length, self.k_edge,
+                              alive, self.cells, self.cell_alive, self.k_cell, self.scale,
+                              self.sten_p, self.sten_c, self.k_sten, self.sten_alive, 1.0,
+                              self._g_new, False)
 
     def apply(self, state, h):
+        h = h * self.step_share
         self._prepare(state, h)
         x, y, alive = state.x, self._y, state.alive
         y[...] = x
-        if self.theta < 1.0:
-            # θ-scheme: M(x⁺ − 2x + x⁻)/h² = −θ∇E(x⁺) − (1 − θ)∇E(x⁻) + f
-            before = state.x_prev - h * state.v
-            self.objective(before, before, alive, self._g_new, True, 1.0)
-            y -= (1.0 - self.theta) * self._g_new / self.mass_h2[:, None]
         g, g_new, trial = self._g, self._g_new, self._trial
-        phi = self.objective(x, y, alive, g, True, self.theta)
+        phi = self.objective(x, y, alive, g, True)
         count, order = self._count, self._order
+        last = None
         for _ in range(self.iterations):
             q = g.copy()
             first_loop(q, self._s, self._yh, self._rho, order, count, self._alphas)
@@ -172,17 +182,20 @@ class SolveImplicitStep:
                 d[self.fixed.astype(bool)] = 0.0
                 slope = dot(g, d)
                 if not slope < 0.0:
+                    last = d
                     break
             t = 1.0
             for _ls in range(HALVINGS):
                 step_to(x, d, t, trial)
-                phi_new = self.objective(trial, y, alive, g_new, True, self.theta)
+                phi_new = self.objective(trial, y, alive, g_new, True)
                 if phi_new <= phi + ARMIJO * t * slope:
                     break
                 t *= 0.5
             else:
+                last = d
                 break
             np.subtract(trial, x, out=self._sv)
+            last = self._sv
             np.subtract(g_new, g, out=self._yv)
             sy = dot(self._sv, self._yv)
             if sy > 0.0:  # curvature seen: keep the pair (else the history stays as it is)
@@ -200,16 +213,19 @@ class SolveImplicitStep:
             g, g_new = g_new, g
             phi = phi_new
         self._g, self._g_new = g, g_new
+        self._last_step = last
         self._count = count if KEEP_HISTORY else 0
         m = self.model
         edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, h * h, self.lambdas)
 
-    def imbalance(self) -> float:
-        """m: the largest move the last step's remaining gradient asks of a particle at its
-        inertia, |∇Φ_i|·h²/m_i: how far the solve stopped from the step's minimum."""
-        if self._h is None:
+    def last_move(self) -> float:
+        """m: the largest move of a particle in the last substep's last iteration (where its
+        line search found no decrease, the move it asked for): how far the solve still
+        travelled when it stopped, the step-size measure of an iteration's convergence."""
+        last = self._last_step
+        if last is None:
             return 0.0
-        return float((np.linalg.norm(self._g, axis=1) / self.mass_h2).max())
+        return float(np.sqrt(np.einsum("ij,ij->i", last, last)).max())
 
 
 class LBFGSSolver(SolverBase):
@@ -218,10 +234,20 @@ class LBFGSSolver(SolverBase):
     def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
                  params: StepParams):
         super().__init__(model, behavior, forces, h, params)
-        self._integrate: list[Effect] = list(forces) + [IntegrateVerlet(model, params)]
-        self.projection = SolveImplicitStep(model, params.iterations, params.compliance)
+        if bdf2_for(behavior):
+            # a second-order step whose solve stops early can gain energy: the guard's check
+            self.watches_energy = True
+            predict = PredictBDF2(model, params)
+            self._velocities: Effect = VelocitiesBDF2(model, params, predict)
+            share = STEP_SHARE
+        else:
+            predict = IntegrateVerlet(model, params)
+            self._velocities = UpdateVelocities(model, params)
+            share = 1.0
+        self._integrate: list[Effect] = list(forces) + [predict]
+        self.projection = SolveImplicitStep(model, params.iterations, params.compliance,
+                                            step_share=share)
         self._constraints: list[Effect] = [self.projection]
-        self._velocities = UpdateVelocities(model, params)
 
     def retune(self, params: StepParams, model) -> None:
         self.model = model
@@ -251,3 +277,13 @@ class LBFGSSolver(SolverBase):
 
     def elastic_energy(self, state) -> float:
         return self.projection.elastic_energy(state.x, state.alive)
+
+    def solve_error(self, state) -> float:
+        """The last iteration's largest move (SolveImplicitStep.last_move) as a share of the
+        shortest rest length: how far the solve still travelled when it stopped."""
+        return self.projection.last_move() / self._shortest_rest
+
+    @property
+    def _shortest_rest(self) -> float:
+        rest = self.model.rest_length
+        return float(rest.min()) if len(rest) else 1.0
