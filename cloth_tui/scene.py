@@ -22,8 +22,8 @@ from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
                          groups_from_list, lowest_offset)
 from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
 from .scene_keys import MIN_DIRECTION_NORM, SECTIONS, SceneError, key, vec3
-from .sim.collision import shapes
-from .sim.solvers import registry as solver_registry
+from . import object_shapes as shapes
+from . import solver_specs as solver_registry
 from .texture_names import BUILTIN_TEXTURES
 from .user_values import finite_float, short_repr, texture_file_problem
 
@@ -125,7 +125,7 @@ class Forces:
     rain_rate: float = key(20.0, "drops per second", unit="1/s", lo=0.0, hi=1e5)
 
 
-# [[objects]]: the keys every object has, then each shape's own (sim/shapes/)
+# [[objects]]: the keys every object has, then each shape's own (object_shapes.py)
 SceneObject = dataclasses.make_dataclass("SceneObject", [
     ("type", "str", key("sphere", "shape of the object", choices=OBJECT_TYPES)),
     ("center", "list", vec3([0.0, -0.25, 0.0], "centre (a point on the plane, for planes)",
@@ -272,6 +272,18 @@ class Scene:
         new.objects = _objects_from_list(objects)
         validate(new)
         return new
+
+    def placed_objects(self) -> list[tuple[str, SceneObject]]:
+        """(key, SceneObject) of every object of the scene: scene.object (in the original's
+        placement), then [[objects]] in order."""
+        out = []
+        if self.scene.object != "none":
+            shape = shapes.SHAPES[self.scene.object]
+            out.append(("scene.object", SceneObject(type=shape.name, motion="orbit"
+                                                    if self.scene.moving else "static",
+                                                    **shape.single_object)))
+        out += [(f"objects[{k}]", o) for k, o in enumerate(self.objects)]
+        return out
 
     def with_pins(self, pins: list[dict[str, Any]]) -> "Scene":
         """A validated copy whose [[pins]] are `pins` (tables as in a scene file)."""

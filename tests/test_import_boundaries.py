@@ -101,3 +101,72 @@ def test_no_import_circle_inside_the_package():
 
 def test_the_cycle_finder_sees_a_circle():
     assert import_cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c", "a"]]
+
+
+# Imports the module, then lists the loaded package modules whose names start with the prefix.
+LOADS = """
+import importlib, json, pkgutil, sys
+module = importlib.import_module(sys.argv[1])
+if hasattr(module, "__path__"):
+    for info in pkgutil.walk_packages(module.__path__, module.__name__ + "."):
+        importlib.import_module(info.name)
+print(json.dumps(sorted(n for n in sys.modules if n == sys.argv[2] or
+                        n.startswith(sys.argv[2] + "."))))
+"""
+
+
+def modules_loaded_by(module: str, prefix: str) -> list[str]:
+    out = subprocess.run([sys.executable, "-c", LOADS, module, prefix],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def test_the_scene_schema_imports_no_simulation_code():
+    """The schema reads the solvers' and shapes' declarations (solver_specs, object_shapes),
+    never the physics."""
+    assert modules_loaded_by("cloth_tui.scene", "cloth_tui.sim") == []
+
+
+def test_the_simulation_imports_the_scene_schema_only_for_type_hints():
+    assert modules_loaded_by("cloth_tui.sim", "cloth_tui.scene") == []
+    assert run_time_imports(Path(cloth_tui.__file__).parent / "sim", "cloth_tui.scene") == []
+
+
+def run_time_imports(root: Path, target: str) -> list[str]:
+    """Where a module under `root` imports `target` anywhere (in a function too), outside
+    an `if TYPE_CHECKING:` block."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root.parent.parent).with_suffix("").parts
+        package = ".".join(parts[:-1])
+        hints = set()
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING":
+                hints.update(id(n) for b in node.body for n in ast.walk(b))
+        for node in ast.walk(tree):
+            if id(node) in hints:
+                continue
+            if isinstance(node, ast.ImportFrom):
+                base = package.split(".")[:len(package.split(".")) - node.level + 1] \
+                    if node.level else []
+                modules = [".".join(base + ([node.module] if node.module else []))]
+                if not node.module:
+                    modules = [f"{modules[0]}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                modules = [a.name for a in node.names]
+            else:
+                continue
+            if any(m == target or m.startswith(target + ".") for m in modules):
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    return found
+
+
+def test_the_run_time_import_finder_sees_one(tmp_path):
+    sim = tmp_path / "cloth_tui" / "sim"
+    (sim / "run").mkdir(parents=True)
+    (sim / "run" / "late.py").write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from ...scene import Scene\n"
+        "def f():\n    from ...scene import SceneError\n")
+    assert run_time_imports(sim, "cloth_tui.scene") == ["sim/run/late.py:5"]

@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ..sim.solvers import registry as solver_registry
+from .. import solver_specs as solver_registry
 from ..user_values import short_repr
 from .errors import MaterialError
 from .schema import ALL_KEYS, Material, material_from_table

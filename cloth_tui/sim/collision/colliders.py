@@ -29,7 +29,6 @@ import math
 
 import numpy as np
 
-from ...scene import SceneObject
 from .contact_kernels import (  # noqa: F401
     DISPATCHED,
     apply_coulomb_friction,
@@ -268,15 +267,8 @@ def orbit_offset(t: float) -> np.ndarray:
 
 def scene_objects(scene) -> list[tuple[str, object]]:
     """(key, SceneObject) of every object of the scene: scene.object (in the original's
-    placement), then [[objects]] in order."""
-    out = []
-    if scene.scene.object != "none":
-        shape = shape_of(scene.scene.object)
-        out.append(("scene.object", SceneObject(type=shape.name, motion="orbit"
-                                                if scene.scene.moving else "static",
-                                                **shape.single_object)))
-    out += [(f"objects[{k}]", o) for k, o in enumerate(scene.objects)]
-    return out
+    placement), then [[objects]] in order (Scene.placed_objects)."""
+    return scene.placed_objects()
 
 
 def build_colliders(scene, model, params: StepParams | None = None) -> list[Collider]:

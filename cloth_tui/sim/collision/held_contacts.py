@@ -13,15 +13,19 @@ their length and pinned the adaptive substeps at their maximum while it passed).
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...scene import Scene, SceneError
+from ...scene_keys import SceneError
 from .colliders import ORBIT_PERIOD, Floor, ShapeCollider, build_colliders, scene_objects
 from ..effects.forces import wave_rows
 from ..model import ClothModel, build_model
 from ..params import without_friction
 from ..effects.pins import hard_anchors, track_times
+
+if TYPE_CHECKING:
+    from ...scene import Scene
 
 WAVE_SAMPLES = 9  # heights of the wave's driven edge checked, from trough to crest
 # Places checked along a moving object's orbit (2π · 0.25 m round): 1.2 cm apart. A distance

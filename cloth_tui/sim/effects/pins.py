@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ...pin_groups import SOFT_PIN_SCALE, PinGroup, block, cells
-from ...scene import SceneError
+from ...scene_keys import SceneError
 from ..jit import kernel
 
 EXACT = PinGroup(at=[[0, 0]])  # how cloth.pinned and the wave hold: in place, exactly

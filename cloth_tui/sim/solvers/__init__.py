@@ -1,6 +1,7 @@
-"""The solvers, one folder each (xpbd/, pbd/, hpbd/, springs/), found through one registry
-(registry.py). A solver is a SolverSpec (name and traits) and a SolverBase subclass (its
-stages and what the runner asks of it): base.py."""
+"""The solvers, one folder each (xpbd/, pbd/, hpbd/, springs/, lbfgs/), found through one
+registry (registry.py, reading cloth_tui/solver_specs.py). A solver is a SolverSpec (name and
+traits, in solver_specs.py) and a SolverBase subclass (its stages and what the runner asks of
+it): base.py."""
 
 from .base import SolverBase, SolverSpec
 from .registry import DEFAULT, names, register, spec, unregister

@@ -1,6 +1,6 @@
-"""What every solver is: a `SolverSpec` (its name and traits, light enough for the scene
-schema to read without compiling anything) and a `SolverBase` subclass (its stages and what
-the runner, the measures and the guard ask of it). registry.py holds the specs.
+"""What every solver is: a `SolverSpec` (its name and traits, declared in
+cloth_tui/solver_specs.py where the scene schema reads them) and a `SolverBase` subclass (its
+stages and what the runner, the measures and the guard ask of it).
 
 A solver supplies three lists of stages, which pipeline.assemble puts in the substep's one
 order: `integrate()` (the forces and the prediction, or an integrator with the forces
@@ -9,41 +9,18 @@ inside), `constraints()` (run after the contacts) and `velocities()` (last).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:  # (the spec is read by the schema and --help: it imports no numpy)
+from ...solver_specs import SolverSpec
+
+if TYPE_CHECKING:
     import numpy as np
 
     from ..params import StepParams
     from ..protocols import Effect, ForceEffect
     from ..state import ClothState
 
-
-@dataclass(frozen=True)
-class SolverSpec:
-    """A solver as the scene, the lab, the bench and the docs know it.
-
-    `load` returns the solver's class (importing its kernels only then). `takes_material`:
-    its constraints take a compliance each, so it can run a [material]. `solves_constraints`:
-    it projects constraints, so the frame leaves a solve error for the accuracy control to
-    bound (a force-based solver stretches as its stiffness says, whatever the step).
-    `tethers`: it may add long-range attachments where pins exist (position-based solvers;
-    projected positions an integrator keeps moving would add energy). `integrators`: the
-    time integrators it runs, the first being what behavior.integrator = "auto" means.
-    `reference`: the plain solve of a material's implicit step, with no acceleration, that
-    the lab's results are stated for and faster solvers are measured against (one solver)."""
-    name: str
-    summary: str
-    load: Callable[[], type[SolverBase]]
-    takes_material: bool = False
-    solves_constraints: bool = True
-    tethers: bool = True
-    integrators: tuple[str, ...] = ("verlet",)
-    reference: bool = False
-
-    def solver_class(self) -> type[SolverBase]:
-        return self.load()
+__all__ = ["SolverBase", "SolverSpec"]  # SolverSpec: for a solver declared at run time
 
 
 class SolverBase:
@@ -104,6 +81,16 @@ class SolverBase:
         """Whether the solver takes energy by a damping of its own that the numerical
         damping's bookkeeping does not count as asked for (numerical_damping.measurable)."""
         return False
+
+    def solve_error(self, state: ClothState) -> float | None:
+        """How far the last frame ended from the step the solver aims at, as a share of
+        rest length: what behavior.error_tolerance bounds, the accuracy control raising the
+        substeps until it is met. By default the constraints' residual max |C + α̃λ|/L0
+        (measures.solve_error; pbd's α̃ is 0, so its stretch). None, always, for a solver
+        that leaves none to bound (springs stretch as their stiffness says, whatever the
+        substeps): the control then keeps the scene's substeps."""
+        from ..run.measures import solve_error  # (this module imports no numpy)
+        return solve_error(self.model, state.x, state.alive, self.lambdas, self.alpha_tilde)
 
     def elastic_energy(self, state: ClothState) -> float:
         """J stored in the constraints by the solver's own force estimate."""

@@ -1,6 +1,9 @@
 """What every shape provides, for each layer that handles objects (see the package's
 docstring); the parts that are the same for all shapes are written here once.
 
+A shape's [[objects]] keys and their checks are declared in cloth_tui/object_shapes.py,
+which the scene schema reads; `keys` and `single_object` here are those.
+
 A shape's *parameters* are the values that say what the object is, apart from where it is:
 a sphere's {"radius"}, a box's {"size"}, ... (`parameter_kinds` names them and how each is
 recorded in a bake). They are what an ObjectPose carries, what the renderer meshes, what a
@@ -11,14 +14,12 @@ the modules they have loaded.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
 
-from ....scene_keys import key, vec3
 
 MAX_LENGTH = 1e6      # m: any object dimension or position beyond this is not a scene's
 MIN_DIRECTION = 1e-6  # a normal or axis shorter than this gives no direction
@@ -30,9 +31,6 @@ DIRECTION = "direction"  # three finite floats, a unit vector when written
 SURFACE = "surface"      # triangles: the shape's own prim holds them (the mesh)
 
 
-# Keys several shapes share (one declaration each: SceneObject has one field per name)
-RADIUS_KEY = key(0.25, "radius", unit="m", lo=0.0, lo_open=True, hi=1e3)
-AXIS_KEY = vec3([1.0, 0.0, 0.0], "axis direction", nonzero=True)
 AT_CENTRE = 1e-12  # m: a point this close to a centre or axis has no normal of its own
 
 
@@ -60,11 +58,9 @@ class Shape:
 
     name = ""            # the scene's `type`
     code = -1            # its branch in the compiled dispatch (contact_kernels.for_shape)
-    keys: dict = {}      # its own [[objects]] keys: name → scene_keys.key(...) declaration
+    keys: dict = {}      # its own [[objects]] keys (object_shapes.ShapeKeys.keys)
     parameter_kinds: dict = {}  # the pose's parameters: name → LENGTH, SIDES, ...
-    single_object: dict | None = None  # scene.object's placement (SceneObject keys), if any
-    exclusive_keys: tuple = ()  # keys no other shape may set (a mesh's file)
-    plural = ""          # "meshes", for messages about exclusive keys
+    single_object: dict | None = None  # scene.object's placement (object_shapes.ShapeKeys)
     sided = False        # particles keep the side they start on (an infinite plane)
     smooth = True        # the renderer shades it smoothly (a box has flat faces)
     faint = False        # drawn fainter (a plane spans the view)
@@ -72,10 +68,6 @@ class Shape:
     # distance(qx, qy, qz, p, side, grid, gradient) → (d, nx, ny, nz) for q relative to the
     # centre, with p[0:3] the centre and p[3:] the packed parameters
     distance: Callable = staticmethod(lambda *a: None)
-
-    # -- scene --------------------------------------------------------------------------
-    def check(self, obj, where: str) -> None:
-        """Raise scene_keys.SceneError when `obj`'s keys do not make this shape."""
 
     # -- simulation -----------------------------------------------------------------------
     def parameters(self, obj) -> dict:
@@ -194,13 +186,6 @@ def turn_from_z(usd, direction):
     and cylinder stand along their `axis` token, z here, and are turned onto the shape's."""
     Gf = usd.Gf
     return Gf.Quatf(Gf.Rotation(Gf.Vec3d(0, 0, 1), Gf.Vec3d(*direction)).GetQuat())
-
-
-def default_of(declaration):
-    """The default value of a key declaration (scene_keys.key)."""
-    if declaration.default_factory is not dataclasses.MISSING:
-        return declaration.default_factory()
-    return declaration.default
 
 
 def _hashable(v):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ....scene_keys import SceneError, vec3
+from ....object_shapes import BOX
 from .base import SIDES, Shape
 
 
@@ -31,15 +31,11 @@ def distance(qx, qy, qz, p, side, grid, gradient):
 class Box(Shape):
     name = "box"
     code = 1
-    keys = {"size": vec3([0.5, 0.2, 0.5], "sides along x, y and z (axis-aligned)", unit="m")}
+    keys = BOX.keys
     parameter_kinds = {"size": SIDES}
-    single_object = dict(center=[0.0, 0.0, 0.0], size=[0.5, 0.2, 0.5])
+    single_object = BOX.single_object
     smooth = False
     distance = staticmethod(distance)
-
-    def check(self, obj, where: str) -> None:
-        if min(obj.size) < 0.0:
-            raise SceneError(f"{where}: a box's size {list(obj.size)} has a negative side")
 
     def parameters(self, obj) -> dict:
         return {"size": tuple(float(v) for v in obj.size)}

@@ -5,10 +5,8 @@ from __future__ import annotations
 
 import math
 
-from ....scene_keys import SceneError, key
-from . import box, plane
-from .base import (AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, RADIUS_KEY, Shape, default_of,
-                   turn_from_z, unit)
+from ....object_shapes import CAPSULE
+from .base import AT_CENTRE, DIRECTION, LENGTH, Shape, turn_from_z, unit
 
 
 def distance(qx, qy, qz, p, side, grid, gradient):
@@ -28,21 +26,10 @@ def distance(qx, qy, qz, p, side, grid, gradient):
 class Capsule(Shape):
     name = "capsule"
     code = 2
-    keys = {"radius": RADIUS_KEY, "axis": AXIS_KEY,
-            "length": key(0.5, "length of the axis segment (the capsule's cylinder part)",
-                          unit="m", lo=0.0, hi=1e3)}
+    keys = CAPSULE.keys
     parameter_kinds = {"radius": LENGTH, "axis": DIRECTION, "length": LENGTH}
-    # the original's: lying along x under the sheet's centre
-    single_object = dict(center=[0.0, -0.1, 0.0], radius=0.15, length=0.5,
-                         axis=[1.0, 0.0, 0.0])
+    single_object = CAPSULE.single_object
     distance = staticmethod(distance)
-
-    def check(self, obj, where: str) -> None:
-        if (obj.normal != default_of(plane.SHAPE.keys["normal"])
-                or obj.size != default_of(box.SHAPE.keys["size"])):
-            raise SceneError(f"{where}: a capsule takes `axis` (direction) and `length` "
-                             "(m), not `normal` and `size` (older files put the axis in normal "
-                             "and the length in size[1]); move them to axis and length")
 
     def parameters(self, obj) -> dict:
         return {"radius": float(obj.radius), "axis": unit(obj.axis),

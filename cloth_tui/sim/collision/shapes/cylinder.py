@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 
-from ....scene_keys import key
-from .base import AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, RADIUS_KEY, Shape, turn_from_z, unit
+from ....object_shapes import CYLINDER
+from .base import AT_CENTRE, DIRECTION, LENGTH, Shape, turn_from_z, unit
 
 SIDES_DRAWN = 48  # facets around the rendered side
 
@@ -48,9 +48,7 @@ def distance(qx, qy, qz, p, side, grid, gradient):
 class Cylinder(Shape):
     name = "cylinder"
     code = 5
-    keys = {"radius": RADIUS_KEY, "axis": AXIS_KEY,
-            "height": key(0.5, "height along its axis (flat ends)", unit="m", lo=0.0,
-                          lo_open=True, hi=1e3)}
+    keys = CYLINDER.keys
     parameter_kinds = {"radius": LENGTH, "axis": DIRECTION, "height": LENGTH}
     distance = staticmethod(distance)
 

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from .... import meshes
-from ....scene_keys import SceneError, key, vec3
+from ....object_shapes import MESH
 from .base import MAX_LENGTH, SURFACE, KernelInputs, Shape, ShapeValueError
 
 OUTSIDE = 1e9    # m: the distance reported beyond the grid, where nothing touches
@@ -64,20 +64,9 @@ def distance(qx, qy, qz, p, side, grid, gradient):
 class Mesh(Shape):
     name = "mesh"
     code = 4
-    keys = {
-        "path": key("", "STL, OBJ, PLY or VTK surface file, relative to the scene file"),
-        "scale": key(1.0, "factor on the file's coordinates", lo=0.0, lo_open=True, hi=1e3),
-        "rotation": vec3([0.0, 0.0, 0.0], "rotation about x, then y, then z (about the "
-                         "file's origin, which `center` places)", unit="°"),
-    }
+    keys = MESH.keys
     parameter_kinds = {"surface": SURFACE}
-    exclusive_keys = ("path",)
-    plural = "meshes"
     distance = staticmethod(distance)
-
-    def check(self, obj, where: str) -> None:
-        if obj.path == "":
-            raise SceneError(f"{where}: a mesh needs `path`, its surface file")
 
     def check_scene(self, objects: list) -> None:
         meshes.check_scene_meshes(objects)

@@ -3,14 +3,12 @@ each particle keeps the side it started on (the collider records it): two-sided.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
-from ....scene_keys import vec3
+from ....object_shapes import PLANE
 from .base import DIRECTION, Shape, unit
 
-SINGLE_TILT_DEG = 20.0  # the single `scene.object = "plane"` is tilted this much about x
 RENDER_HALF = 0.9  # m: shown extent of the plane, about the sheet's
 USD_HALF = 1.0     # m: half the side of the quad that shows it in a bake
 
@@ -37,13 +35,9 @@ def quad(center, normal, half: float) -> np.ndarray:
 class Plane(Shape):
     name = "plane"
     code = 3
-    keys = {"normal": vec3([0.0, 1.0, 0.0], "normal (the centre is a point on it)",
-                           nonzero=True)}
+    keys = PLANE.keys
     parameter_kinds = {"normal": DIRECTION}
-    # the original's: through the origin, tilted about x (downhill is +z)
-    single_object = dict(center=[0.0, 0.0, 0.0],
-                         normal=[0.0, math.cos(math.radians(SINGLE_TILT_DEG)),
-                                 math.sin(math.radians(SINGLE_TILT_DEG))])
+    single_object = PLANE.single_object
     sided = True
     faint = True
     distance = staticmethod(distance)

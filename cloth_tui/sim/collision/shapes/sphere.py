@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from .base import AT_CENTRE, LENGTH, RADIUS_KEY, Shape
+from ....object_shapes import SPHERE
+from .base import AT_CENTRE, LENGTH, Shape
 
 
 def distance(qx, qy, qz, p, side, grid, gradient):
@@ -18,10 +19,9 @@ def distance(qx, qy, qz, p, side, grid, gradient):
 class Sphere(Shape):
     name = "sphere"
     code = 0
-    keys = {"radius": RADIUS_KEY}
+    keys = SPHERE.keys
     parameter_kinds = {"radius": LENGTH}
-    # the original's: radius 0.25 resting on the floor (−0.5)
-    single_object = dict(center=[0.0, -0.25, 0.0], radius=0.25)
+    single_object = SPHERE.single_object
     distance = staticmethod(distance)
 
     def parameters(self, obj) -> dict:

@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from ....scene_keys import SceneError, key
-from .base import AT_CENTRE, AXIS_KEY, DIRECTION, LENGTH, Shape, unit
+from ....object_shapes import TORUS
+from .base import AT_CENTRE, DIRECTION, LENGTH, Shape, unit
 
 AROUND_RING = 64  # facets of the drawn surface around the axis
 AROUND_TUBE = 24  # and around the tube
@@ -69,19 +69,9 @@ def surface(parameters: dict) -> tuple[np.ndarray, np.ndarray]:
 class Torus(Shape):
     name = "torus"
     code = 6
-    keys = {"axis": AXIS_KEY,
-            "major_radius": key(0.25, "radius of the circle the tube's centre follows",
-                                unit="m", lo=0.0, lo_open=True, hi=1e3),
-            "minor_radius": key(0.08, "radius of the tube (less than major_radius)",
-                                unit="m", lo=0.0, lo_open=True, hi=1e3)}
+    keys = TORUS.keys
     parameter_kinds = {"axis": DIRECTION, "major_radius": LENGTH, "minor_radius": LENGTH}
     distance = staticmethod(distance)
-
-    def check(self, obj, where: str) -> None:
-        # A tube as wide as the ring closes the hole and meets itself: a spindle, not a ring.
-        if obj.minor_radius >= obj.major_radius:
-            raise SceneError(f"{where}: a torus's minor_radius {obj.minor_radius:g} m must be "
-                             f"less than its major_radius {obj.major_radius:g} m")
 
     def parameters(self, obj) -> dict:
         return {"axis": unit(obj.axis), "major_radius": float(obj.major_radius),
