@@ -1,5 +1,6 @@
-"""The scene schema: typed dataclasses, validation and dict conversion (files and `--set`
-overrides: scene_files; the README's key reference: scene_reference).
+"""The scene schema: typed dataclasses and dict conversion (files and `--set` overrides:
+scene_files; one value's checks: scene_values; checks across keys: scene_checks; the
+README's key reference: scene_reference).
 
 Every key is declared once, with its default, unit, allowed range and help text, in the
 field metadata below. Validation, the README's key reference and the TUI's panels all read
@@ -11,24 +12,27 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
-import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from .materials.errors import MaterialError
-from .materials.section import (MaterialSection, is_material_key, section_from_value,
-                                section_to_table, solver_problem, with_material_key)
-from .pin_groups import (PinGroup, check_groups, grid_of, group_to_dict,
-                         groups_from_list, lowest_offset)
-from .png_header import MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE
-from .scene_keys import MIN_DIRECTION_NORM, SECTIONS, SceneError, key, vec3
 from . import object_shapes as shapes
 from . import solver_specs as solver_registry
+from .materials.errors import MaterialError
+from .materials.section import (MaterialSection, is_material_key, section_from_value,
+                                section_to_table, with_material_key)
+from .pin_groups import PinGroup, group_to_dict, groups_from_list
+from .png_header import MAX_TEXTURE_SIDE
+from .scene_checks import validate
+from .scene_keys import SECTIONS, SceneError, key, vec3
+from .scene_values import coerce
 from .texture_names import BUILTIN_TEXTURES
-from .user_values import finite_float, short_repr, texture_file_problem
+
+# (the schema as one module: callers read these here too)
+from .scene_keys import MIN_DIRECTION_NORM as MIN_DIRECTION_NORM  # noqa: E402
+from .scene_values import describe_allowed as describe_allowed  # noqa: E402
+from .scene_values import value_type as value_type  # noqa: E402
 
 MAX_RESOLUTION = 512  # particles along either side of the sheet
-NAIVE_MAX_PARTICLES = 128 * 128  # naive self-collision is O(N²): beyond this, the hash
 TEXTURE_DOC = (f"none, a built-in texture name ({', '.join(BUILTIN_TEXTURES)}) or a PNG path; "
                f"sides above {MAX_TEXTURE_SIDE} px are downscaled")
 MASS_MODELS = ("area", "uniform")
@@ -260,7 +264,7 @@ class Scene:
                 continue
             section, name = split_key(dotted)
             sec = getattr(new, section)
-            setattr(sec, name, _coerce(sec, name, value, renamed(dotted)))
+            setattr(sec, name, coerce(sec, name, value, renamed(dotted)))
         validate(new)
         return new
 
@@ -325,185 +329,7 @@ def split_key(dotted: str) -> tuple[str, str]:
     return parts[0], parts[1]
 
 
-def describe_allowed(f: dataclasses.Field) -> str:
-    m = f.metadata
-    if m["choices"]:
-        return "one of " + ", ".join(m["choices"])
-    if m["kind"] == "color":
-        return "a colour #rrggbb"
-    if m["kind"] == "texture":
-        side = math.isqrt(MAX_TEXTURE_PIXELS)
-        return (f"none, {', '.join(BUILTIN_TEXTURES)} or a .png path of at most "
-                f"{MAX_TEXTURE_PIXELS} pixels ({side}×{side})")
-    if m["kind"].startswith("vec3"):
-        return ("[x, y, z] of numbers within ±1e+06" +
-                (f", of length ≥ {MIN_DIRECTION_NORM:g}" if "nonzero" in m["kind"] else ""))
-    t = value_type(f)
-    lo = "" if m["lo"] is None else f"{m['lo']:g} {'<' if m['lo_open'] else '≤'} "
-    hi = "" if m["hi"] is None else f" {'<' if m['hi_open'] else '≤'} {m['hi']:g}"
-    kind = {"bool": "true or false", "int": "an integer", "float": "a number",
-            "str": "a string"}.get(t, t)
-    one = f"{kind}{' with ' + lo + 'value' + hi if (lo or hi) else ''}"
-    if m["pair"]:
-        return f"{one}, or [{', '.join(m['pair'])}], two of them"
-    return one
-
-
-def value_type(f: dataclasses.Field) -> str:
-    """The declared type's name ("int", "float", ...); for a key that also takes a pair
-    (`float | list`), the type of one number."""
-    t = f.type if isinstance(f.type, str) else f.type.__name__
-    return t.split("|")[0].strip()
-
-
-def _coerce(section_obj: Any, name: str, value: Any, dotted: str) -> Any:
-    """Check one value against its declaration; return it in its canonical Python type."""
-    f = {f.name: f for f in dataclasses.fields(section_obj)}[name]
-    m, t = f.metadata, value_type(f)
-
-    def bad(reason: str = "") -> SceneError:
-        shown = short_repr(value)
-        return SceneError(f"{dotted} = {shown} is not allowed{': ' + reason if reason else ''}; "
-                          f"expected {describe_allowed(f)}")
-
-    if m["kind"].startswith("vec3"):
-        if not isinstance(value, (list, tuple)) or len(value) != 3:
-            raise bad()
-        out = []
-        for v in value:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise bad()
-            v = finite_float(v)
-            if v is None:
-                raise bad("not a finite number")
-            out.append(v)
-        if any(abs(v) > 1e6 for v in out):
-            raise bad("too large")
-        if "nonzero" in m["kind"] and not math.hypot(*out) >= MIN_DIRECTION_NORM:
-            raise bad("zero-length direction" if not any(out) else "too short to give a direction")
-        return out
-    if t == "bool":
-        if not isinstance(value, bool):
-            raise bad()
-        return value
-    if t == "str":
-        if not isinstance(value, str):
-            raise bad()
-        if m["choices"] and value not in m["choices"]:
-            raise bad()
-        if m["kind"] == "color" and not re.fullmatch(r"#[0-9a-fA-F]{6}", value):
-            raise bad()
-        if m["kind"] == "texture":
-            _check_texture(value, bad)
-        return value
-    if t in ("int", "float"):
-        if m["pair"] and isinstance(value, (list, tuple)):
-            if len(value) != 2:
-                raise bad(f"a list needs two entries, {' and '.join(m['pair'])}")
-            return [_number(v, t, m, bad) for v in value]
-        return _number(value, t, m, bad)
-    raise bad()
-
-
-def _number(value: Any, t: str, m: Any, bad) -> int | float:
-    """One int or float value checked against its declaration's range."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise bad()
-    if t == "int":
-        if isinstance(value, float):
-            if not (math.isfinite(value) and value.is_integer()):
-                raise bad()
-            value = int(value)
-    else:
-        as_float = finite_float(value)
-        if as_float is None:
-            raise bad("not a finite number")
-        value = as_float
-    lo, hi = m["lo"], m["hi"]
-    if lo is not None and (value < lo or (m["lo_open"] and value == lo)):
-        raise bad()
-    if hi is not None and (value > hi or (m["hi_open"] and value == hi)):
-        raise bad()
-    return value
-
-
-def _check_texture(value: str, bad) -> None:
-    if value == "none" or value in BUILTIN_TEXTURES:
-        return
-    if not value.lower().endswith(".png"):
-        raise bad()
-    problem = texture_file_problem(value)
-    if problem:
-        raise bad(problem)
-
-
 integrator_for = solver_registry.integrator_for  # (its home is the solvers' registry)
-
-
-def validate(scene: Scene) -> None:
-    """Checks that involve more than one key."""
-    b = scene.behavior
-    problem = solver_problem(scene.material, b.solver)
-    if problem:
-        raise SceneError(problem)
-    runs = solver_registry.spec(b.solver).integrators
-    if b.integrator not in ("auto",) + runs:
-        able = " or ".join(f'"{n}"' for n in SOLVERS
-                           if b.integrator in solver_registry.spec(n).integrators)
-        raise SceneError(f"behavior.integrator = {b.integrator!r} needs behavior.solver = "
-                         f"{able}; {b.solver} runs {', '.join(runs)}")
-    if b.wave and 2 * math.pi * b.wave_amplitude * b.wave_frequency > b.max_speed:
-        raise SceneError(f"behavior.wave_amplitude = {b.wave_amplitude:g} m at "
-                         f"behavior.wave_frequency = {b.wave_frequency:g} Hz drives the edge at "
-                         f"{2 * math.pi * b.wave_amplitude * b.wave_frequency:.3g} m/s; "
-                         f"2π·amplitude·frequency must not exceed behavior.max_speed = "
-                         f"{b.max_speed:g} m/s")
-    for i, o in enumerate(scene.objects):
-        shapes.check_object(o, f"objects[{i}]")
-    c, s = scene.cloth, scene.scene
-    check_groups(scene.pins, *grid_of(c))
-    holds_particles = (c.pinned not in ("none", "random") or (c.pinned == "random" and
-                                                              c.pin_fraction > 0) or b.wave
-                       or any(g.stiffness == 1.0 for g in scene.pins))
-    # the wave's trough, or the lowest a pin group holds its particles
-    lowest_held = c.height + min(-b.wave_amplitude if b.wave else 0.0,
-                                 lowest_offset(scene.pins))
-    if s.floor and holds_particles and lowest_held < s.floor_height + s.thickness:
-        # Held particles cannot be pushed out of the floor: the contact could never hold.
-        raise SceneError(f"held particles (cloth.pinned = \"{c.pinned}\""
-                         f"{', behavior.wave' if b.wave else ''}"
-                         f"{', [[pins]]' if scene.pins else ''}) reach down to "
-                         f"{lowest_held:g} m, inside the floor (scene.floor_height = "
-                         f"{s.floor_height:g} m + scene.thickness = {s.thickness:g} m); raise "
-                         "cloth.height or lower the floor")
-    nx, nz = _check_grid(scene.cloth)
-    if b.self_collision == "naive" and nx * nz > NAIVE_MAX_PARTICLES:
-        raise SceneError(f"behavior.self_collision = \"naive\" is O(N²) and limited to "
-                         f"{NAIVE_MAX_PARTICLES} particles (128 × 128; cloth.resolution "
-                         f"gives {nx} × {nz}); use \"hash\"")
-
-
-def _check_grid(cloth: Cloth) -> tuple[int, int]:
-    """The sheet's (nx, nz), refused when a side would have a single particle (a sheet of one
-    row has no cells). Neither side can exceed MAX_RESOLUTION: a pair's entries are checked
-    against it, and an integer resolution gives the shorter side no more than the longer."""
-    nx, nz = cloth.grid_shape()
-    for axis, count, line in (("x", nx, "column"), ("z", nz, "row")):
-        if count < 2:
-            width, length = cloth.dimensions()
-            raise SceneError(f"cloth.size = {_toml_text(cloth.size)} at cloth.resolution = "
-                             f"{_toml_text(cloth.resolution)} makes a sheet of a single {line} "
-                             f"(1 particle along {axis}: {width:g} m × {length:g} m with "
-                             f"{max(nx, nz)} along the longer side); raise cloth.resolution or "
-                             "give [nx, nz] with at least 2 along each side")
-    return nx, nz
-
-
-def _toml_text(value: Any) -> str:
-    """A number or a list of numbers as written in a scene file."""
-    if isinstance(value, list):
-        return "[" + ", ".join(f"{v:g}" for v in value) + "]"
-    return f"{value:g}"
 
 
 def _section_from_dict(cls: type, data: Any, where: str) -> Any:
@@ -516,7 +342,7 @@ def _section_from_dict(cls: type, data: Any, where: str) -> Any:
         k = RENAMED_KEYS.get(f"{where}.{k}", f"{where}.{k}")[len(where) + 1:]
         if k not in names:
             raise SceneError(f"unknown key {where}.{k}: [{where}] has {', '.join(names)}")
-        setattr(obj, k, _coerce(obj, k, v, shown))
+        setattr(obj, k, coerce(obj, k, v, shown))
     return obj
 
 
