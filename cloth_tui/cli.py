@@ -6,7 +6,9 @@ unexpected.
 
 Only `os` and `sys` (loaded before any script runs) are imported at the top: every other
 import, the parsers' included, happens inside `main`'s guard, so Ctrl+C while modules load is
-the same one line as Ctrl+C in the middle of a run.
+the same one line as Ctrl+C in the middle of a run. Before the guard, from the package's first
+line, `cloth_tui.end_at_start_up` gives the same line and status (the interpreter's own
+start-up, `site` and its `.pth` files, runs before any line of the package can).
 """
 
 from __future__ import annotations
@@ -162,16 +164,19 @@ def main(argv: list[str] | None = None) -> int:
     interpreter's shutdown after it: Ctrl+C there is the same one line and 130."""
     import signal
 
+    from . import end_at_start_up
+
     global _interrupt_seen
     _interrupt_seen = False
     command_line = argv is None
-    # Only where Python's own handler is in place: a process started with SIGINT ignored
-    # (a background job, nohup) keeps ignoring it; off the main thread nothing can be set.
-    ours = (_on_main_thread() and
-            signal.getsignal(signal.SIGINT) is signal.default_int_handler)
-    if ours:
-        signal.signal(signal.SIGINT, _raise_interrupt)
+    # Only where Python's own handler (or the package's until now) is in place: a process
+    # started with SIGINT ignored (a background job, nohup) keeps ignoring it; off the main
+    # thread nothing can be set.
+    ours = (_on_main_thread() and signal.getsignal(signal.SIGINT) in
+            (signal.default_int_handler, end_at_start_up))
     try:
+        if ours:
+            signal.signal(signal.SIGINT, _raise_interrupt)
         status = _run(sys.argv[1:] if argv is None else list(argv))
     except KeyboardInterrupt:
         status = None

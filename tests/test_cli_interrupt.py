@@ -1,17 +1,22 @@
 """Ctrl+C at any moment after Python has started the command: exit 130 and one line, never a
-traceback, whether it lands while modules load, inside a library that turns it into an error
-of its own, in the middle of the work, or in the interpreter's shutdown.
+traceback, whether it lands before `main`'s guard (the console script's or runpy's lines, cli.py
+loading), while modules load, inside a library that turns it into an error of its own, in the
+middle of the work, or in the interpreter's shutdown.
 
 The moments are events, not delays: the child sends itself SIGINT when a chosen module starts
-to load (or at exit), or the test sends it once /proc shows a library mapped."""
+to load (or at exit), or the test sends it once /proc shows a library mapped. One test also
+sends it at several delays after the start: whatever each hits, the answer is an allowed one."""
 
 import os
+import re
 import signal
 import subprocess
 import sys
 import time
 
 import pytest
+
+import cloth_tui
 
 # The console script's own two lines (`from cloth_tui.cli import main; sys.exit(main())`),
 # after a finder that sends SIGINT to this process when module `target` is first looked for.
@@ -40,12 +45,31 @@ sys.exit(main())
 """
 
 
-def run_tripped(tmp_path, target, *args):
+# `python -m cloth_tui ARGS` as the interpreter runs it (runpy), after the same finder.
+CHILD_M = CHILD.replace("""sys.argv = ["cloth-tui", *sys.argv[3:]]
+from cloth_tui.cli import main
+sys.exit(main())""", """import runpy
+sys.orig_argv = [sys.executable, "-m", "cloth_tui", *sys.argv[3:]]
+sys.argv = ["-m", *sys.argv[3:]]
+runpy.run_module("cloth_tui", run_name="__main__", alter_sys=True)""")
+
+
+def run_tripped(tmp_path, target, *args, child=CHILD):
     marker = tmp_path / "tripped"
-    p = subprocess.run([sys.executable, "-c", CHILD, target, str(marker), *args],
+    p = subprocess.run([sys.executable, "-c", child, target, str(marker), *args],
                        capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert marker.exists(), f"{target} was never loaded: the test did not interrupt anything"
     return p
+
+
+@pytest.mark.parametrize("child, target", [
+    pytest.param(CHILD, "cloth_tui.cli", id="the console script imports main"),
+    pytest.param(CHILD_M, "cloth_tui.__main__", id="runpy finds the package's __main__"),
+    pytest.param(CHILD_M, "cloth_tui.cli", id="__main__ imports main"),
+])
+def test_ctrl_c_before_mains_guard_is_one_line_and_130(tmp_path, child, target):
+    p = run_tripped(tmp_path, target, "scenes", child=child)
+    assert (p.returncode, p.stderr) == (130, "cloth-tui: interrupted\n")
 
 
 @pytest.mark.parametrize("target, args", [
@@ -98,3 +122,27 @@ def test_ctrl_c_from_outside_as_a_library_loads(tmp_path, library):
         child.kill()
         child.wait()
     assert (child.returncode, err) == (130, "cloth-tui: interrupted\n")
+
+
+PACKAGE_FRAME = re.compile(r'File "' + re.escape(os.path.dirname(cloth_tui.__file__)))
+
+
+@pytest.mark.parametrize("args", [["--help"], ["scenes"],
+                                  ["simulate", "default", "--frames", "1", "--set",
+                                   "cloth.resolution=8"]])
+def test_ctrl_c_at_any_delay_after_the_start_is_130_and_one_line(tmp_path, args):
+    """SIGINT at several delays after `python -m cloth_tui ARGS` starts: each run ends with
+    its work done (0, nothing on stderr) or 130 and the one line. What lands in the
+    interpreter's own start-up (`site`, runpy, finding the package), before any line of the
+    package has run, is Python's: killed by the signal, or its traceback, which then holds
+    no frame of the package."""
+    for delay in (0.0, 0.01, 0.03, 0.06, 0.1, 0.2, 0.4):
+        child = subprocess.Popen([sys.executable, "-m", "cloth_tui", *args], cwd=tmp_path,
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        time.sleep(delay)
+        child.send_signal(signal.SIGINT)
+        _, err = child.communicate(timeout=120)
+        answer = (child.returncode, err)
+        if answer in ((0, ""), (130, "cloth-tui: interrupted\n"), (-signal.SIGINT, "")):
+            continue
+        assert "Traceback" in err and not PACKAGE_FRAME.search(err), (delay, answer)
