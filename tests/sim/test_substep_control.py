@@ -133,3 +133,13 @@ def test_energy_made_is_bounded_as_energy_lost_is():
     for _ in range(ENERGY_FRAMES):
         c.accept(0.001, damping=-0.2)
     assert c.substeps > 4 and not c.met
+
+
+def test_a_burst_that_goes_on_after_a_raise_raises_again_at_once():
+    c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
+    for _ in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=0.2)
+    raised = c.substeps
+    assert raised > 4
+    # the frames before, as the raised count would have had them, are in the recent mean
+    assert c.accept(0.001, damping=0.4) > raised

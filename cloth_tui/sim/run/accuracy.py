@@ -1,17 +1,16 @@
 """What the runner hands the accuracy control (substep_control.py) and the numerical-damping
-meter (numerical_damping.py): the tolerance a scene asks, a frame's solve error, and the
-energies a frame's damping is told from."""
+meter (numerical_damping.py): the tolerance a scene asks and the energies a frame's damping
+is told from (a frame's solve error is its solver's: SolverBase.solve_error)."""
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import numpy as np
 
 from ..effects.tearing import strength_tolerance, tear_strength
 from ..model import ClothModel
 from ..state import ClothState
-from .measures import free_energy, kinetic_energy, per_constraint, potential_floor, solve_error
+from .measures import free_energy, kinetic_energy, potential_floor
 from .numerical_damping import DampingMeter, asked_loss, touching
 
 if TYPE_CHECKING:
@@ -25,33 +24,6 @@ def error_tolerance(scene: Scene, model: ClothModel) -> float:
     tol = scene.behavior.error_tolerance
     strength = tear_strength(scene.behavior, model)
     return tol if strength is None else min(tol, strength_tolerance(model, strength))
-
-
-class SolveError:
-    """A frame's solve error (measures.solve_error), keeping α̃
-    = α/h² per constraint (0 for rigid ones and springs) until the solver's changes (a
-    measured fabric's edges take a new α each substep: sim/fabric/stretch_curve.py)."""
-
-    def __init__(self):
-        self._alpha_tilde: np.ndarray | None = None
-        self._alpha_tilde_of = None
-
-    def forget(self) -> None:
-        """The step was rebuilt or retuned: α̃ may have changed."""
-        self._alpha_tilde = None
-
-    def alpha_tilde(self, model: ClothModel, step: Step) -> np.ndarray:
-        solver = step.solver
-        source = 0.0 if solver is None else solver.alpha_tilde
-        if self._alpha_tilde is None or source is not self._alpha_tilde_of:
-            self._alpha_tilde = per_constraint(source, model.num_constraints)
-            self._alpha_tilde_of = source
-        return self._alpha_tilde
-
-    def measure(self, model: ClothModel, step: Step, state: ClothState) -> float:
-        solver = step.solver  # pbd keeps a λ array too (zeros), so nothing is allocated
-        lambdas = None if solver is None else solver.lambdas
-        return solve_error(model, state.x, state.alive, lambdas, self.alpha_tilde(model, step))
 
 
 def measure_damping(meter: DampingMeter, e_start: float | None, e_end, model: ClothModel,

@@ -16,10 +16,9 @@ from ..collision.held_contacts import check_held_particles, held_inputs_differ
 from ..effects.pins import with_user_pin
 from ..model import build_model, nearest_pins, refitted
 from ..params import same_structure
-from ..solvers import registry
 from ..state import ClothState
 from . import gestures
-from .accuracy import SolveError, error_tolerance, measure_damping
+from .accuracy import error_tolerance, measure_damping
 from .guard import (GUARD_EASE_FRAMES, MAX_GUARD_LEVEL, SPRING_DIVERGED, energy_scale, finite,
                     frame_problem, halt_reason, max_stretch, stretch_converged, watches_energy)
 from .measures import energy, free_energy, potential_floor
@@ -66,11 +65,8 @@ class Simulation:
             self.substeps_run = 0  # every substep stepped, redone and trial frames included
         self.recoveries = 0
         self.halted: str | None = None  # why stepping stopped, if it did
-        # Springs stretch as their stiffness says, whatever the step: there the tolerance is
-        # reported, and substeps are the guard's business alone.
         self.control = SubstepController(error_tolerance(scene, self.model), b.substeps,
-                                         b.max_substeps,
-                                         adaptive=b.adaptive and self._solves_constraints(),
+                                         b.max_substeps, adaptive=b.adaptive,
                                          energy_tolerance=b.energy_tolerance or None)
         self.frame_error = 0.0  # solve error after the last frame (when it was measured)
         self._measured_met: bool | None = None  # fixed substeps: the last stats()' verdict
@@ -79,15 +75,14 @@ class Simulation:
         self._sources = has_energy_source(scene)
         self._find_nearest_pins()
         self._build_step()
-
-    def _solves_constraints(self) -> bool:
-        """Whether the scene's solver leaves a solve error to bound (registry.SolverSpec)."""
-        return registry.spec(self.scene.behavior.solver).solves_constraints
+        # A solver that leaves no solve error (springs stretch as their stiffness says,
+        # whatever the step): the tolerance is reported, the substeps are the guard's alone.
+        if self.step.solver is not None and self._solve_error() is None:
+            self.control.adaptive = False
 
     def _build_step(self) -> None:
         self.step = pipeline.build(self.scene, self.model,
                                    self.control.substeps << self._guard_level)
-        self._solve_error_of = SolveError()  # for the step just built
 
     def _find_nearest_pins(self) -> None:
         """Each particle's nearest hard pin and flat-sheet distance to it: what bounds how
@@ -121,7 +116,6 @@ class Simulation:
             self.model = refitted(self.model, scene.cloth, scene_material(scene))
         self.scene = scene
         self.step.retune(scene, self.model)
-        self._solve_error_of.forget()  # α̃ may have changed
         self.damping_meter.forget()  # the energy's terms did (gravity): no damping across it
         self.halted = None
 
@@ -184,7 +178,7 @@ class Simulation:
                         self._nearest_pin)
         if not self.control.adaptive or not self.model.num_constraints:
             return None
-        self.frame_error = self._solve_error()
+        self.frame_error = self._solve_error() or 0.0  # (no solver: the sheet is frozen)
         return self.control.redo_with(self.frame_error)
 
     # -- numerical damping (numerical_damping.py) -----------------------------------------
@@ -264,8 +258,10 @@ class Simulation:
         return gestures.cut(self.model, self.state, p0, p1)
 
     # -- reporting (reporting.py) ---------------------------------------------------------
-    def _solve_error(self) -> float:
-        return self._solve_error_of.measure(self.model, self.step, self.state)
+    def _solve_error(self) -> float | None:
+        """The frame's solve error, as the step's solver measures it (None: none to bound)."""
+        solver = self.step.solver
+        return None if solver is None else solver.solve_error(self.state)
 
     def _energy(self) -> float:
         return energy(self.model, self.state, self.scene, self.step.solver)
@@ -287,7 +283,7 @@ class Simulation:
     def stats(self) -> RunStats:
         """Every statistic, the costly ones measured now."""
         is_finite = self._finite()
-        error = self._solve_error() if is_finite and self._solves_constraints() else None
+        error = self._solve_error() if is_finite else None
         energy_tolerance = self.control.energy_tolerance
         if not self.control.adaptive:  # (adaptive: the controller's verdict, per frame)
             self._measured_met = (None if error is None and energy_tolerance is None

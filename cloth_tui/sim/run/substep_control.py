@@ -100,10 +100,12 @@ class SubstepController:
         return self._error_need(error) <= 1.0 and self._energy_need() <= 1.0
 
     def _set(self, substeps: int) -> None:
+        # the recent frames' damping as the new count would have had it (d ∝ h): a burst
+        # that goes on after a raise is met at once, not ENERGY_FRAMES frames later
+        self.recent[:] = [d * self.substeps / substeps for d in self.recent]
         self.substeps = substeps
         self.slack_frames = self.damping_frames = 0
         self.window_error = self.damping_sum = 0.0
-        self.recent.clear()
 
     def _raised(self, need: float) -> int:
         factor = min(MAX_RAISE, need * SAFETY)
