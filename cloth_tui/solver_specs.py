@@ -28,8 +28,9 @@ class SolverSpec:
 
     `load` returns the solver's class (importing its kernels only then). `takes_material`:
     its constraints take a compliance each, so it can run a [material]. `solves_constraints`:
-    it projects constraints, so the frame leaves a solve error for the accuracy control to
-    bound (a force-based solver stretches as its stiffness says, whatever the step).
+    it projects constraints one at a time, in passes over the sheet (pbd, xpbd, hpbd: the
+    solvers the work-precision study sets beside the springs' integrators). What the
+    accuracy control bounds is each solver's own (SolverBase.solve_error).
     `tethers`: it may add long-range attachments where pins exist (position-based solvers;
     projected positions an integrator keeps moving would add energy). `integrators`: the
     time integrators it runs, the first being what behavior.integrator = "auto" means.
