@@ -3,6 +3,10 @@
 (ASTM D1388 done virtually: the overhang at which the line from the clamp's edge to the tip
 falls 41.5°, and B = w·(O/2)³, which must give back the material's bending rigidity).
 
+A strip along the grid's x is cut along the warp, one along z along the weft, and each bends
+with its own B (materials.schema.strip_rigidities); the Peirce test cuts both where the fabric
+bends by direction.
+
 The clamp holds the strip's first three columns, its edge halfway between the last two
 held ones: the free length is then (N + ½)·h for N free links, and the hinge at the last
 held column stands for the half cells on either side of the edge (docs/physics.md,
@@ -52,82 +56,110 @@ def free_length_spacing(free_length: float, links: int) -> float:
     return free_length / (links + 0.5)
 
 
-def strip_for_load(load: float, material) -> float:
+DIRECTIONS = ("warp", "weft")  # a strip cut along x, or along z
+
+
+def strip_bending(material, along: str = "warp") -> float:
+    """N·m: the rigidity a strip cut along `along` bends with."""
+    from ..materials.schema import strip_rigidities
+    return strip_rigidities(material)[DIRECTIONS.index(along)]
+
+
+def strip_for_load(load: float, material, along: str = "warp") -> float:
     """m: the free length L at which the material's strip has wL³/B = load."""
-    return math.cbrt(load * material.bending / (material.areal_density * GRAVITY))
+    return math.cbrt(load * strip_bending(material, along) /
+                     (material.areal_density * GRAVITY))
 
 
-def first_mode_period(free_length: float, material) -> float:
+def first_mode_period(free_length: float, material, along: str = "warp") -> float:
     """s: the small-deflection cantilever's first period, 2π/ω₁ with ω₁ = 1.875²·√(B/(ρ_A L⁴))
     (Euler–Bernoulli), the scale on which it settles."""
-    omega = 1.8751 ** 2 * math.sqrt(material.bending / (material.areal_density *
+    omega = 1.8751 ** 2 * math.sqrt(strip_bending(material, along) / (material.areal_density *
                                                         free_length ** 4))
     return 2 * math.pi / omega
 
 
-def settling_damping(free_length: float, material) -> float:
+def settling_damping(free_length: float, material, along: str = "warp") -> float:
     """1/s: the material damping rate that settles the first mode in a few periods (about
     half critical); it changes the static answer not at all."""
-    return 0.5 * 2 * (2 * math.pi / first_mode_period(free_length, material))
+    return 0.5 * 2 * (2 * math.pi / first_mode_period(free_length, material, along))
 
 
 def material_table(material, damping: float) -> dict:
-    """The scene's [material] section for `material`, with `damping` (1/s) for settling."""
+    """The scene's [material] section for `material`, with `damping` (1/s) for settling.
+    Its bending by direction is written as the [warp, weft] strips' rigidities, which keep
+    every fold a strip or a disc bends along x or z (a preset's measured bias becomes the
+    pair's, and its stretch is linear)."""
+    from ..materials.schema import strip_rigidities
+    warp, weft = strip_rigidities(material)
     return {"areal_density": material.areal_density,
             "stretch": [material.stretch_warp, material.stretch_weft],
-            "shear": material.shear, "bending": material.bending, "damping": damping}
+            "shear": material.shear,
+            "bending": material.bending if material.bending_by_direction is None
+            else [warp, weft], "damping": damping}
 
 
-def substeps_for(spacing: float, material, frame_rate: float) -> int:
+def substeps_for(spacing: float, material, frame_rate: float, along: str = "warp") -> int:
     """Substeps per frame that keep h²·B/(ρ_A·dx⁴) within MAX_BENDING_PER_STEP (at least
     SUBSTEPS): the bending's stiffness per step grows as 1/dx⁴, so a finer strip needs
     shorter steps, h ∝ dx²."""
     longest = spacing ** 2 * math.sqrt(MAX_BENDING_PER_STEP * material.areal_density /
-                                       material.bending)
+                                       strip_bending(material, along))
     return max(SUBSTEPS, math.ceil(1.0 / (frame_rate * longest)))
 
 
-def clamped_strip(free_length: float, links: int, material, solver: str | None = None):
-    """(scene, rows, columns, h): the strip of `links` free links clamped by its first
-    three columns, held where the flat sheet lies, solved by `solver` (the reference solver
-    if None); a SceneError if it cannot simulate the material."""
+def clamped_strip(free_length: float, links: int, material, solver: str | None = None,
+                  along: str = "warp"):
+    """(scene, across, lengthwise, h): the strip of `links` free links (`lengthwise`
+    particles, `across` of them side by side) clamped by its first three, held where the
+    flat sheet lies, cut along the warp (x) or the weft (z), solved by `solver` (the
+    reference solver if None); a SceneError if it cannot simulate the material."""
     solver = solver or solver_registry.reference()
     h = free_length_spacing(free_length, links)
-    cols = links + HELD_COLUMNS
-    length = (cols - 1) * h
-    rows = min(MAX_ROWS, particles_across(STRIP_WIDTH, free_length, links))
-    scene = strip_scene(size=[length, STRIP_WIDTH], resolution=[cols, rows],
-                        pins=[{"cols": [0, HELD_COLUMNS - 1]}],
+    lengthwise = links + HELD_COLUMNS
+    length = (lengthwise - 1) * h
+    across = min(MAX_ROWS, particles_across(STRIP_WIDTH, free_length, links))
+    held = [0, HELD_COLUMNS - 1]
+    if along == "warp":
+        size, resolution, pin = [length, STRIP_WIDTH], [lengthwise, across], {"cols": held}
+    else:
+        size, resolution, pin = [STRIP_WIDTH, length], [across, lengthwise], {"rows": held}
+    scene = strip_scene(size=size, resolution=resolution, pins=[pin],
                         behavior={"solver": solver, "iterations": ITERATIONS,
                                   "frame_rate": FRAME_RATE,
-                                  "substeps": substeps_for(h, material, FRAME_RATE)},
+                                  "substeps": substeps_for(h, material, FRAME_RATE, along)},
                         material_section=material_table(
-                            material, settling_damping(free_length, material)))
-    return scene, rows, cols, h
+                            material, settling_damping(free_length, material, along)))
+    return scene, across, lengthwise, h
 
 
-def _tip(sim, rows: int, cols: int) -> tuple[float, float]:
-    """(drop, reach) of the tip from the clamp's edge, m, mean over the rows."""
-    x = sim.state.x.reshape(rows, cols, 3)
-    edge_x = 0.5 * (x[:, HELD_COLUMNS - 2, 0] + x[:, HELD_COLUMNS - 1, 0])
+def _tip(sim, across: int, lengthwise: int, along: str) -> tuple[float, float]:
+    """(drop, reach) of the tip from the clamp's edge, m, mean across the strip."""
+    if along == "warp":   # rows of particles along x
+        x, axis = sim.state.x.reshape(across, lengthwise, 3), 0
+    else:                 # along z: the grid's rows are the strip's length
+        x, axis = sim.state.x.reshape(lengthwise, across, 3).transpose(1, 0, 2), 2
+    edge = 0.5 * (x[:, HELD_COLUMNS - 2, axis] + x[:, HELD_COLUMNS - 1, axis])
     return (float(np.mean(x[:, HELD_COLUMNS - 1, 1] - x[:, -1, 1])),
-            float(np.mean(x[:, -1, 0] - edge_x)))
+            float(np.mean(x[:, -1, axis] - edge)))
 
 
-def settle_clamped(free_length: float, links: int, material, solver: str | None = None) -> dict:
-    """Runs the clamped strip to rest (its tip still to SETTLED_DRIFT·L over half a period);
-    returns its tip's drop and reach from the clamp's edge (m, mean over the rows), the
-    line's angle below horizontal, the wall time and the solve's settings."""
-    scene, rows, cols, h = clamped_strip(free_length, links, material, solver)
+def settle_clamped(free_length: float, links: int, material, solver: str | None = None,
+                   along: str = "warp") -> dict:
+    """Runs the clamped strip (cut along the warp or the weft) to rest (its tip still to
+    SETTLED_DRIFT·L over half a period); returns its tip's drop and reach from the clamp's
+    edge (m, mean across the strip), the line's angle below horizontal, the wall time and
+    the solve's settings."""
+    scene, across, lengthwise, h = clamped_strip(free_length, links, material, solver, along)
     sim = warmed_simulation(scene)
-    period = first_mode_period(free_length, material)
+    period = first_mode_period(free_length, material, along)
     chunk = max(1, math.ceil(CHECK_PERIODS * period * scene.behavior.frame_rate))
     wall = timed_frames(sim, math.ceil(MIN_PERIODS * period * scene.behavior.frame_rate))
-    drop, reach = _tip(sim, rows, cols)
+    drop, reach = _tip(sim, across, lengthwise, along)
     while True:
         wall += timed_frames(sim, chunk)
         last = drop
-        drop, reach = _tip(sim, rows, cols)
+        drop, reach = _tip(sim, across, lengthwise, along)
         if not math.isfinite(drop) or not sim.stats().finite:
             raise LabError(f"the clamped strip diverged at {links} links "
                            f"({scene.behavior.substeps} substeps)")
@@ -188,10 +220,17 @@ def _peirce_materials(material) -> list:
 
 
 def _peirce_cases(material) -> list[Case]:
-    return [Case(f"{m.preset}: B = {m.bending * 1e6:.4g} µN·m, {m.areal_density * 1e3:g} g/m²",
-                 m.bending, {"preset": m.preset,
-                             "elastica_overhang": overhang(m.bending, m.areal_density)})
-            for m in _peirce_materials(material)]
+    """A strip cut along the warp; and along the weft where the fabric bends by direction."""
+    cases = []
+    for m in _peirce_materials(material):
+        directions = DIRECTIONS if m.bending_by_direction is not None else ("",)
+        for direction in directions:
+            b = strip_bending(m, direction or "warp")
+            name = " ".join(filter(None, (m.preset, direction))) or "the material"
+            cases.append(Case(f"{name}: B = {b * 1e6:.4g} µN·m, {m.areal_density * 1e3:g} g/m²",
+                              b, {"preset": m.preset, "direction": direction or "warp",
+                                  "elastica_overhang": overhang(b, m.areal_density)}))
+    return cases
 
 
 def peirce_search(chord_at, first_guess: float) -> tuple[float, int]:
@@ -215,7 +254,7 @@ def _measure_peirce(case: Case, links: int, material, solver: str) -> Measuremen
     wall = [0.0]
 
     def chord_at(length: float) -> float:
-        r = settle_clamped(length, links, m, solver)
+        r = settle_clamped(length, links, m, solver, case.params["direction"])
         wall[0] += r["wall_s"]
         return r["chord_angle"]
 
@@ -227,7 +266,8 @@ def _measure_peirce(case: Case, links: int, material, solver: str) -> Measuremen
 PEIRCE = Experiment(
     name="peirce",
     summary="ASTM D1388 done virtually: the overhang O at which the line from the clamp's "
-            "edge to the tip falls 41.5°, and B = w·(O/2)³, against the material's B",
+            "edge to the tip falls 41.5°, and B = w·(O/2)³, against the material's B (of "
+            "the strip cut along the warp, and along the weft where it bends by direction)",
     quantity="B", unit="N·m",
     resolution_meaning="free links along the overhang (h = O/(N + ½))",
     default_resolutions=(10, 20, 40), min_resolution=4, tolerance=0.02,

@@ -219,25 +219,23 @@ def format_fit(r: dict, section: str | None) -> str:
     from . import fit
 
     mat, p = r["material"], r["proof"]
+    bending = mat["bending"] if isinstance(mat["bending"], list) else [mat["bending"]]
     out = ["Textile lab · fit: a fabric from measurements.",
            (f"Material: {mat['areal_density'] * 1e3:g} g/m², stretch {mat['stretch'][0]:.4g} / "
             f"{mat['stretch'][1]:.4g} N/m, shear {mat['shear']:.4g} N/m, bending "
-            f"{mat['bending'] * 1e6:.4g} µN·m.")]
+            f"{' / '.join(f'{b * 1e6:.4g}' for b in bending)} µN·m"
+            f"{' (warp / weft)' if len(bending) == 2 else ''}.")]
     out += [f"Note: {n}." for n in r["notes"]]
     if section is not None:
         out += ["", section.rstrip()]
-    pe = p["peirce"]
-    out += ["", f"Proof ({r['solver']}), the lab's tests on the fabric as written:",
-            (f"  virtual Peirce test ({fit.PEIRCE_LINKS} links): overhang "
-             f"{pe['overhang'] * 100:.4g} cm, bending length "
-             f"{pe['bending_length'] * 100:.4g} cm against {pe['expected'] * 100:.4g} cm: "
-             f"{pe['error']:+.2%}, within {pe['tolerance']:.0%}: "
-             f"{'yes' if pe['ok'] else 'NO'}")]
-    if len(pe["directions"]) == 2:
-        for d in pe["directions"]:
-            out.append(f"    measured {d['direction']} {d['measured'] * 100:g} cm: "
-                       f"{d['error']:+.2%}"
-                       + ("" if d["ok"] else " (one bending rigidity cannot hold both)"))
+    out += ["", f"Proof ({r['solver']}), the lab's tests on the fabric as written:"]
+    for pe in p["peirce"]:
+        strip = f", strip along the {pe['direction']}" if len(p["peirce"]) == 2 else ""
+        out.append(f"  virtual Peirce test ({fit.PEIRCE_LINKS} links{strip}): overhang "
+                   f"{pe['overhang'] * 100:.4g} cm, bending length "
+                   f"{pe['bending_length'] * 100:.4g} cm against {pe['expected'] * 100:.4g} "
+                   f"cm: {pe['error']:+.2%}, within {pe['tolerance']:.0%}: "
+                   f"{'yes' if pe['ok'] else 'NO'}")
     dr = p["drape"]
     if dr is not None:
         out.append(f"  drape test ({dr['resolution']} particles across): coefficient "

@@ -79,6 +79,16 @@ class BendingByDirection:
     fold_45: float   # a bias fold
     fold_90: float   # a fold along the weft: curvature along the warp (x)
 
+    @classmethod
+    def of_strips(cls, warp: float, weft: float) -> "BendingByDirection":
+        """The folds of a fabric whose strips cut along the warp and along the weft (ASTM
+        D1388's two) have rigidities `warp` and `weft`: the warp strip curves along x, a fold
+        at 90° to the warp; the weft strip a fold at 0°. The standard does not measure the
+        bias: the twist stencils get its overall rigidity √(warp·weft), so the 45° fold is
+        (√warp + √weft)²/4, and equal strips make the one isotropic rigidity."""
+        return cls(fold_0=weft, fold_45=(math.sqrt(warp) + math.sqrt(weft)) ** 2 / 4,
+                   fold_90=warp)
+
     def grid_rigidities(self) -> tuple[float, float, float]:
         """(B_uu, B_vv, B_uv): the rigidity of the grid's x_uu, x_vv and x_uv stencils whose
         energy ½(B_uu·K_xx² + B_vv·K_zz² + 2·B_uv·K_xz²) gives each fold its rigidity: a

@@ -7,7 +7,11 @@ A material is the fabric in SI units, independent of the grid that discretises i
 - `stretch` (N/m): the membrane's tensile stiffness, tension per unit width per unit strain,
   one number or [warp, weft] (warp along the grid's x, weft along its z).
 - `shear` (N/m): in-plane shear stiffness, shear force per unit length per radian of shear.
-- `bending` (N·m): the bending rigidity B, moment per unit width per unit curvature.
+- `bending` (N·m): the bending rigidity B, moment per unit width per unit curvature; one
+  number, or [warp, weft]: the rigidities of a strip cut along the warp (bending along x)
+  and of one cut along the weft (along z), the two ASTM D1388 measures. A pair bends by
+  direction as a measured preset does (measured.BendingByDirection.of_strips gives its
+  bias), and `Material.bending` is then the weft's, a preset's fold along the warp.
 - `damping` (1/s): a viscous drag per unit mass: without other forces a velocity decays as
   exp(−damping·t), whatever the timestep and substeps (0.69/s halves it each second).
 - `tear_strength` (N/m, optional): tension per unit width at which the fabric tears.
@@ -18,7 +22,7 @@ A material is the fabric in SI units, independent of the grid that discretises i
 A measured preset also brings its stretch that stiffens with strain and its bending by
 direction (measured.py), which `stretch` and `bending` above give at small strain and for a
 fold along the warp; a `stretch` or `bending` typed beside the preset replaces them with the
-linear, isotropic model of that number.
+linear model of that number (a bending pair: with its own directions).
 
 Pure Python: the scene loader will call `material_from_table` and turn a MaterialError into
 its SceneError (this module cannot import scene.py, which will import it).
@@ -34,7 +38,7 @@ from ..user_values import short_repr
 from .errors import MaterialError
 from .measured import BendingByDirection, StretchCurve
 from .presets import get_preset, preset_names
-from .values import DEFAULT_TEAR_LENGTH, KEYS, number, stretch_pair
+from .values import DEFAULT_TEAR_LENGTH, KEYS, bending_pair, number, stretch_pair
 
 ALL_KEYS = ("preset",) + tuple(KEYS)
 NEEDED_WITHOUT_PRESET = ("areal_density", "stretch", "shear", "bending")
@@ -91,6 +95,9 @@ def material_from_table(table: Any, where: str = "material") -> Material:
             continue
         if name == "stretch":
             values[name] = stretch_pair(table[name], where)
+        elif name == "bending" and (pair := bending_pair(table[name], where)) is not None:
+            directions = BendingByDirection.of_strips(*pair)
+            values[name] = directions.fold_0
         else:
             values[name] = number(name, table[name], where)
     warp, weft = values["stretch"]
@@ -116,3 +123,13 @@ def bending_length(material: Material, gravity: float = 9.81) -> float:
     """Peirce's bending length c = (B / (ρ_A g))^⅓ in metres: the fabric's own scale, half
     the overhang of the ASTM D1388 cantilever test."""
     return math.cbrt(material.bending / (material.areal_density * gravity))
+
+
+def strip_rigidities(material: Material) -> tuple[float, float]:
+    """N·m: (warp, weft), the bending rigidity of a strip cut along the warp (curving along
+    x) and of one cut along the weft (along z); the one rigidity twice without directions."""
+    d = material.bending_by_direction
+    if d is None:
+        return material.bending, material.bending
+    return d.fold_90, d.fold_0
+

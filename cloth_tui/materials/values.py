@@ -30,7 +30,10 @@ KEYS: dict[str, KeySpec] = {
     "shear": KeySpec("N/m", 0.0, 1e7, True,
                      "in-plane shear stiffness: shear force per unit length per radian"),
     "bending": KeySpec("N·m", 0.0, 10.0, False,
-                       "bending rigidity B: moment per unit width per unit curvature"),
+                       "bending rigidity B: moment per unit width per unit curvature; one "
+                       "number or [warp, weft]: the rigidity of a strip cut along the warp "
+                       "(bending along x) and of one cut along the weft (along z), as ASTM "
+                       "D1388 measures them"),
     "damping": KeySpec("1/s", 0.0, 1e3, False,
                        "viscous drag per unit mass: velocities decay as exp(−damping·t), "
                        "independent of timestep and substeps"),
@@ -50,6 +53,9 @@ def describe(name: str) -> str:
     lo = f"{s.lo:g} {'<' if s.lo_open else '≤'} value ≤ {s.hi:g}"
     if name == "stretch":
         return f"a number or [warp, weft] of numbers with {lo} ({s.unit})"
+    if name == "bending":
+        return (f"a number with {lo}, or [warp, weft] of numbers with 0 < value ≤ {s.hi:g} "
+                f"({s.unit})")
     return f"a number with {lo} ({s.unit})"
 
 
@@ -67,6 +73,22 @@ def number(name: str, value: Any, where: str) -> float:
     if v < s.lo or (s.lo_open and v == s.lo) or v > s.hi:
         raise bad()
     return v
+
+
+def bending_pair(value: Any, where: str) -> tuple[float, float] | None:
+    """`bending` as (warp, weft) when given as a list, None for one number. A strip that
+    does not bend at all has no place beside one that does: both must be positive."""
+    if not isinstance(value, (list, tuple)):
+        return None
+    if len(value) != 2:
+        raise MaterialError(f"{where}.bending = {short_repr(value)} is not allowed: a list "
+                            f"must be [warp, weft]; expected {describe('bending')}")
+    warp, weft = number("bending", value[0], where), number("bending", value[1], where)
+    if warp == 0.0 or weft == 0.0:
+        raise MaterialError(f"{where}.bending = {short_repr(value)} is not allowed: a "
+                            f"[warp, weft] pair needs both positive (bending = 0 for none); "
+                            f"expected {describe('bending')}")
+    return warp, weft
 
 
 def stretch_pair(value: Any, where: str) -> tuple[float, float]:

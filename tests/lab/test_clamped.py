@@ -16,7 +16,22 @@ def test_the_free_length_gives_the_load():
     denim = lab_material("denim")
     for load in clamped.CANTILEVER_LOADS:
         L = clamped.strip_for_load(load, denim)
-        assert denim.areal_density * 9.81 * L ** 3 / denim.bending == pytest.approx(load)
+        B = clamped.strip_bending(denim)   # the warp strip's: denim bends by direction
+        assert denim.areal_density * 9.81 * L ** 3 / B == pytest.approx(load)
+        L = clamped.strip_for_load(load, denim, "weft")
+        B = clamped.strip_bending(denim, "weft")
+        assert denim.areal_density * 9.81 * L ** 3 / B == pytest.approx(load)
+
+
+def test_a_fabric_that_bends_by_direction_gets_a_peirce_strip_each_way():
+    denim = lab_material("denim")
+    folds = denim.bending_by_direction
+    cases = clamped.PEIRCE.cases(denim)
+    assert [c.params["direction"] for c in cases] == ["warp", "weft"]
+    # the warp strip curves along x: a fold across the warp, at 90° to it
+    assert [c.expected for c in cases] == [folds.fold_90, folds.fold_0]
+    (one,) = clamped.PEIRCE.cases(lab_material("cotton"))   # linear: one strip
+    assert one.expected == lab_material("cotton").bending
 
 
 def test_the_clamps_edge_is_half_a_cell_beyond_the_last_held_column():

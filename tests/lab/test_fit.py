@@ -9,6 +9,7 @@ import pytest
 from cloth_tui.cli import main
 from cloth_tui.lab import fit
 from cloth_tui.lab.study import LabError
+from cloth_tui.materials.schema import strip_rigidities
 from cloth_tui.scene_files import load
 
 G = 9.81
@@ -40,19 +41,18 @@ def test_a_measurement_that_is_none_is_refused(parse, text, says):
         parse(text)
 
 
-def test_the_closed_form_is_peirces_rigidity_and_one_rigidity_holds_the_overall():
+def test_the_closed_form_is_peirces_rigidity_per_direction():
     one = fit.Measurements(0.25, (0.024,), None, None)
     table, notes = fit.closed_form(one)
     assert table["bending"] == pytest.approx(0.25 * G * 0.024 ** 3, rel=1e-5)
     assert table["areal_density"] == 0.25
-    assert not any("one bending rigidity" in n for n in notes)
+    assert not any("bending by direction" in n for n in notes)
     two = fit.Measurements(0.25, (0.024, 0.019), (4000.0, 2500.0), None)
     table, notes = fit.closed_form(two)
-    # ASTM D1388's overall flexural rigidity: √(B_warp·B_weft)
-    assert table["bending"] == pytest.approx(math.sqrt(0.25 * G * 0.024 ** 3 *
-                                                       0.25 * G * 0.019 ** 3), rel=1e-5)
+    assert table["bending"] == pytest.approx([0.25 * G * 0.024 ** 3, 0.25 * G * 0.019 ** 3],
+                                             rel=1e-5)
     assert table["stretch"] == [4000.0, 2500.0]
-    assert any("one bending rigidity" in n for n in notes)
+    assert any("bending by direction" in n and "√(B_warp·B_weft)" in n for n in notes)
 
 
 def _fake_drape(monkeypatch, drape_of_shear):
@@ -103,29 +103,47 @@ def test_lab_fit_writes_a_material_whose_peirce_test_gives_back_the_length(tmp_p
     assert written.bending == pytest.approx(0.25 * G * 0.024 ** 3, rel=1e-5)
     assert (written.stretch_warp, written.stretch_weft) == (4000.0, 4000.0)
     assert written.areal_density == 0.25
-    peirce = r["proof"]["peirce"]
+    (peirce,) = r["proof"]["peirce"]   # one length: an isotropic fabric, one strip
     assert peirce["bending_length"] == pytest.approx(0.024, rel=0.02)
     assert r["proof"]["ok"] and r["output"] == str(out)
     assert "lab fit: proof: virtual Peirce test" in captured.err   # progress on stderr
 
 
-def test_lab_fit_with_warp_and_weft_holds_the_overall_length_and_says_so(capsys):
+def test_lab_fit_with_warp_and_weft_gives_back_each_length_along_its_strip(tmp_path, capsys):
+    """The written fabric bends by direction: the virtual Peirce strip cut along the warp
+    (x) gives back 2.4 cm and the one cut along the weft (z) 1.9 cm."""
+    out = tmp_path / "fabric.toml"
+    assert main(["lab", "fit", "--density", "250", "--bending-length", "2.4,1.9",
+                 "-o", str(out), "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    written = load(out).material.material
+    assert strip_rigidities(written) == pytest.approx((0.25 * G * 0.024 ** 3,
+                                                       0.25 * G * 0.019 ** 3), rel=1e-5)
+    warp, weft = r["proof"]["peirce"]
+    assert (warp["direction"], weft["direction"]) == ("warp", "weft")
+    assert warp["bending_length"] == pytest.approx(0.024, rel=0.02)
+    assert weft["bending_length"] == pytest.approx(0.019, rel=0.02)
+    assert r["proof"]["ok"]
+
+
+def test_lab_fit_prints_the_pair_and_both_strips(capsys):
     assert main(["lab", "fit", "--density", "250", "--bending-length", "2.4,1.9"]) == 0
     text = capsys.readouterr().out
-    assert "[material]" in text and "bending = " in text    # no -o: the section is printed
-    assert "holds one bending rigidity" in text
-    line = next(s for s in text.splitlines() if "virtual Peirce test" in s)
-    measured = float(line.split("bending length ")[1].split(" cm")[0])
-    assert measured == pytest.approx(math.sqrt(2.4 * 1.9), rel=0.02)
-    assert line.endswith("within 2%: yes")
+    assert "bending = [3.39034e-05, 1.68217e-05]" in text  # no -o: the section is printed
+    lines = [s for s in text.splitlines() if "virtual Peirce test" in s]
+    assert [s.split("strip along the ")[1].split(")")[0] for s in lines] == ["warp", "weft"]
+    for line, length in zip(lines, (2.4, 1.9)):
+        measured = float(line.split("bending length ")[1].split(" cm")[0])
+        assert measured == pytest.approx(length, rel=0.02)
+        assert line.endswith("within 2%: yes")
 
 
 def test_lab_fit_writes_a_whole_scene_with_the_fabric(tmp_path, monkeypatch):
     proven = []
     monkeypatch.setattr(fit, "prove", lambda material, *a: proven.append(material) or
-                        {"peirce": {"overhang": 0.04, "bending_length": 0.02,
-                                    "expected": 0.02, "error": 0.0, "tolerance": 0.02,
-                                    "ok": True, "directions": []},
+                        {"peirce": [{"direction": "warp", "overhang": 0.04,
+                                     "bending_length": 0.02, "expected": 0.02,
+                                     "error": 0.0, "tolerance": 0.02, "ok": True}],
                          "drape": None, "ok": True})
     out = tmp_path / "sphere-fabric.toml"
     assert main(["lab", "fit", "--density", "180", "--bending-length", "2", "--scene",
@@ -198,8 +216,9 @@ def test_lab_fit_with_a_drape_coefficient_drapes_as_measured(tmp_path, capsys):
 def test_a_drape_the_fabric_cannot_reach_is_written_reported_and_exits_1(tmp_path, capsys,
                                                                           monkeypatch):
     _fake_drape(monkeypatch, _smooth)
-    monkeypatch.setattr(fit, "peirce_bending_length", lambda material, solver: {
-        "overhang": 0.048, "bending_length": 0.024, "runs": 3, "wall_s": 0.0})
+    monkeypatch.setattr(fit, "peirce_bending_lengths", lambda material, solver: [{
+        "direction": "warp", "overhang": 0.048, "bending_length": 0.024, "runs": 3,
+        "wall_s": 0.0}])
     out = tmp_path / "fabric.toml"
     assert main(["lab", "fit", "--density", "250", "--bending-length", "2.4", "--drape",
                  "0.9", "-o", str(out)]) == 1

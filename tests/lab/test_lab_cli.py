@@ -45,7 +45,7 @@ def test_a_run_prints_json_and_draws(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, cases", [
     (["lab", "cantilever", "--resolutions", "4"], 3),
-    (["lab", "peirce", "--material", "denim", "--resolutions", "4"], 1),
+    (["lab", "peirce", "--material", "denim", "--resolutions", "4"], 2),  # warp, weft
     (["lab", "drape", "--material", "denim", "--resolutions", "11"], 1),
     (["lab", "cantilever", "--solver", "hpbd", "--resolutions", "4"], 3),
 ])
@@ -110,7 +110,7 @@ def test_progress_shows_on_a_terminal_only(capsys):
 
 @pytest.mark.parametrize("test, resolutions, runs, why", [
     ("catenary", "170", "catenary runs N = 4–166", "behavior.substeps = 1020"),
-    ("cantilever", "64", "cantilever runs N = 4–", "behavior.substeps"),
+    ("cantilever", "80", "cantilever runs N = 4–", "behavior.substeps"),
     ("peirce", "10,256", "peirce runs N = 4–", "behavior.substeps"),
     ("drape", "256", "drape runs N = 11–", "pins[0].at: 18360 entries"),
 ])

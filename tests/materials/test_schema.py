@@ -61,3 +61,19 @@ def test_the_bending_length_is_peirces():
     m = material_from_table({"areal_density": 0.2, "stretch": 100, "shear": 10,
                              "bending": 0.2 * 9.81 * 0.02 ** 3})
     assert bending_length(m) == pytest.approx(0.02)
+
+
+def test_a_bending_pair_bends_by_direction_and_an_equal_pair_is_isotropic():
+    base = {"areal_density": 0.25, "stretch": 1000.0, "shear": 20.0}
+    m = material_from_table(base | {"bending": [4e-5, 1e-5]})
+    folds = m.bending_by_direction
+    assert (folds.fold_90, folds.fold_0) == (4e-5, 1e-5)   # the warp strip curves along x
+    # the bias: twist stencils of the overall √(B_warp·B_weft), (√warp + √weft)²/4
+    assert folds.grid_rigidities() == pytest.approx((4e-5, 1e-5, 2e-5))
+    assert folds.along(45.0) == pytest.approx(folds.fold_45) == pytest.approx(2.25e-5)
+    same = material_from_table(base | {"bending": [2e-5, 2e-5]}).bending_by_direction
+    assert same.grid_rigidities() == pytest.approx((2e-5, 2e-5, 2e-5))
+    assert [same.along(a) for a in (0, 30, 45, 90)] == pytest.approx([2e-5] * 4)
+    # beside a measured preset the pair replaces its folds
+    denim = material_from_table({"preset": "denim", "bending": [4e-5, 1e-5]})
+    assert denim.bending_by_direction == folds and denim.stretch_curves is not None

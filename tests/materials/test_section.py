@@ -3,6 +3,7 @@
 import pytest
 
 from cloth_tui.materials.presets import get_preset
+from cloth_tui.materials.schema import strip_rigidities
 from cloth_tui.scene import Scene, SceneError
 from cloth_tui.scene_files import apply_overrides, dumps, loads
 
@@ -67,3 +68,35 @@ def test_a_refused_override_leaves_the_scene_as_it_was():
     with pytest.raises(SceneError, match='needs behavior.solver = "hpbd" or "xpbd"'):
         s.with_value("behavior.solver", "pbd")
     assert s.material.material.preset == "denim" and s.behavior.solver == "xpbd"
+
+
+def test_bending_by_direction_is_a_warp_weft_pair_in_a_file_and_an_override():
+    s = loads('[material]\npreset = "silk"\nbending = [3e-5, 1.5e-5]\n' + XPBD)
+    m = s.material.material
+    assert strip_rigidities(m) == (3e-5, 1.5e-5)
+    assert m.bending == 1.5e-5   # a fold along the warp, as a measured preset's `bending`
+    assert '[material]\npreset = "silk"\nbending = [3e-05, 1.5e-05]\n' in dumps(s)
+    assert loads(dumps(s)) == s
+    over = apply_overrides(s, ["material.bending=[2e-5, 4e-5]"])
+    assert strip_rigidities(over.material.material) == (2e-5, 4e-5)
+    one = apply_overrides(s, ["material.bending=2e-5"])   # one number: isotropic again
+    assert one.material.material.bending_by_direction is None
+
+
+@pytest.mark.parametrize("value, words", [
+    ("[3e-5]", "a list must be [warp, weft]"),
+    ("[3e-5, 1e-5, 2e-5]", "a list must be [warp, weft]"),
+    ("[3e-5, 0]", "needs both positive (bending = 0 for none)"),
+    ("[3e-5, -1]", "material.bending = -1 is not allowed"),
+    ('[3e-5, "stiff"]', "material.bending = 'stiff' is not allowed"),
+    ("[20, 1e-5]", "material.bending = 20 is not allowed"),
+])
+def test_a_bad_bending_pair_is_refused_in_one_line(value, words):
+    with pytest.raises(SceneError) as e:
+        loads(f'[material]\npreset = "denim"\nbending = {value}\n' + XPBD)
+    assert words in str(e.value) and "\n" not in str(e.value)
+    assert "[warp, weft]" in str(e.value)   # what is expected, said
+    with pytest.raises(SceneError) as e:
+        apply_overrides(loads('[material]\npreset = "denim"\n' + XPBD),
+                        [f"material.bending={value}"])
+    assert words in str(e.value)

@@ -146,7 +146,9 @@ def _clamped_drop(preset: str, along: str, load: float = 2.0, links: int = 10) -
     length puts wL³/B = `load` for the rigidity of its own curvature."""
     m = material_from_table({"preset": preset})
     folds = m.bending_by_direction
-    own = dataclasses.replace(m, bending=folds.fold_90 if along == "x" else folds.fold_0)
+    # the rigidity of its own curvature alone: the lab's formulas then size this strip
+    own = dataclasses.replace(m, bending=folds.fold_90 if along == "x" else folds.fold_0,
+                              bending_by_direction=None)
     length = clamped.strip_for_load(load, own)
     h = clamped.free_length_spacing(length, links)
     n = links + clamped.HELD_COLUMNS
