@@ -2,7 +2,7 @@
 
 Same algorithm as the compiled step (Verlet with damping and gravity, the displacement clamped
 to max_speed·h as a whole, coloured Gauss-Seidel projection of the three families, pins)
-written with strided slices of the (nz, nx, 3) grid: every colour of `grid_sweeps.grid_colors`
+written with strided slices of the (nz, nx, 3) grid: every colour of `grid.grid_colors`
 is one or two slice pairs, so the two forms visit constraints in the same colour order and
 give the same positions.
 """

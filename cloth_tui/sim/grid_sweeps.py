@@ -1,7 +1,7 @@
 """Colour sweeps over the regular grid: xpbd/constraints.py's projection as long vector loops.
 
 Every constraint of the sheet joins grid particle (i, j) to (i + di, j + dj) for one of six
-offsets, and model.py's 12 colours split each offset by the parity of a row or a column (or
+offsets, and grid.py's 12 colours split each offset by the parity of a row or a column (or
 of its half, for bending). The sheet has nz rows of nx particles. The sweeps keep positions
 in a structure-of-arrays scratch grid of 16 blocks, one per (i mod 4, j mod 4), each h rows
 of w places with h = ⌈nz/4⌉ and w = ⌈nx/4⌉: particle (i, j) sits at k·w + m of its block,
@@ -29,12 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import prange
 
+from .grid import NUM_COLORS, OFFSETS, color_of, grid_colors
 from .jit import kernel
 
-NUM_COLORS = 12
-# (di, dj) of each colour's constraints; colour 2k and 2k+1 share an offset
-OFFSETS = ((0, 1), (0, 1), (1, 0), (1, 0), (1, 1), (1, 1), (1, -1), (1, -1),
-           (0, 2), (0, 2), (2, 0), (2, 0))
 COINCIDENT = 1e-12  # m: ends closer than this have no direction of their own
 BLOCKS = 4  # rows and columns are split by index mod 4
 CHUNK = 512  # pairs a thread takes at a time (a multiple of the vector width)
@@ -42,18 +39,6 @@ CHUNK = 512  # pairs a thread takes at a time (a multiple of the vector width)
 # multiple of 4 KiB apart, where loads wait on unrelated stores (4K aliasing)
 BLOCK_PAD = 8
 PLANE_SKEW = 1088  # bytes: y's plane starts this far past x's modulo 4 KiB, z's twice as far
-
-
-def color_of(c: int, row_block: int, col_block: int) -> bool:
-    """Whether the pairs of colour c start in block (i mod 4, j mod 4) (model.py's rule)."""
-    p = c % 2
-    if c < 2:
-        return col_block % 2 == p
-    if c < 8:
-        return row_block % 2 == p
-    if c < 10:
-        return col_block // 2 == p
-    return row_block // 2 == p
 
 
 UNSEEN = 2  # alive_seen's value before the first sweep: differs from both 0 and 1
@@ -168,25 +153,6 @@ def _runs(c: int, nx: int, nz: int, block: int):
                 yield ((ra * BLOCKS + qa) * block + t[0], (rb * BLOCKS + qb) * block + shift
                        + t[0], np.where(real, ia * nx + ja, -1),
                        np.where(real, ib * nx + jb, -1))
-
-
-def grid_colors(edges: np.ndarray, nx: int) -> np.ndarray:
-    """The colour (0–11) of each constraint of a grid nx particles wide: 2 per offset, by the
-    parity of its first particle's row or column (of its half, for bending). No two
-    constraints of one colour share a particle, so a colour can be projected in parallel
-    without races (Gauss-Seidel between colours). ValueError for a constraint between far
-    particles."""
-    a, b = edges[:, 0], edges[:, 1]
-    ia, ja, di, dj = a // nx, a % nx, b // nx - a // nx, b % nx - a % nx
-    colors = np.full(len(edges), -1, np.int64)
-    for kind in range(0, NUM_COLORS, 2):
-        on = (di == OFFSETS[kind][0]) & (dj == OFFSETS[kind][1])
-        line = ja if kind in (0, 8) else ia  # the column or row its parity counts
-        colors[on] = kind + (line[on] if kind < 8 else line[on] // 2) % 2
-    if (colors < 0).any():
-        e = int(np.argmax(colors < 0))
-        raise ValueError(f"constraint ({a[e]}, {b[e]}) does not join grid neighbours")
-    return colors
 
 
 def _match_slots(slot_a: np.ndarray, slot_b: np.ndarray, edges: np.ndarray,

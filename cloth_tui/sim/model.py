@@ -1,9 +1,8 @@
 """ClothModel: what does not change while a sheet simulates.
 
-Grid topology, rest lengths, constraint families, a conflict-free colouring for Gauss-Seidel
-projection, pins and masses. The sheet is nz rows of nx particles: particle (row i, column j)
-has index i*nx + j; it lies in the x-z plane at height `cloth.height`, centred on the y axis,
-x growing with j (width along x) and z with i (length along z).
+Grid topology (grid.py: nz rows of nx particles, particle (row i, column j) at index
+i*nx + j), rest lengths, constraint families in a conflict-free colouring for Gauss-Seidel
+projection, pins and masses. The sheet starts flat at height `cloth.height`.
 """
 
 from __future__ import annotations
@@ -12,15 +11,17 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .fabric.build import Fabric, build_fabric, fabric_masses, refit_fabric
 from .effects.forces import wave_rows
-from .grid_sweeps import grid_colors
-from .fabric.material import Grid
 from .effects.pins import PinLayout, layout
+from .fabric.build import Fabric, build_fabric, fabric_masses, refit_fabric
+from .grid import (BENDING, FAMILIES, NUM_COLORS, SHEAR, STRUCTURAL, Grid, grid_colors,
+                   grid_edges, grid_triangles)
 from .solvers import registry
 
-FAMILIES = ("structural", "shear", "bending")
-STRUCTURAL, SHEAR, BENDING = 0, 1, 2
+# (the grid's families and pairs, read from here by the model's users too)
+__all__ = ["BENDING", "FAMILIES", "SHEAR", "STRUCTURAL", "ClothModel", "build_model",
+           "grid_edges", "grid_triangles", "nearest_pins", "particle_masses", "pinned_indices",
+           "refitted", "uses_tethers"]
 
 
 @dataclass(frozen=True)
@@ -76,31 +77,6 @@ class ClothModel:
         return max(self.width, self.length)
 
 
-def grid_edges(nx: int, nz: int,
-               families: tuple[bool, bool, bool]) -> tuple[np.ndarray, np.ndarray]:
-    """Constraint pairs of an nz-row, nx-column grid for the enabled families, and each pair's
-    family."""
-    idx = np.arange(nx * nz).reshape(nz, nx)
-    pairs, fam = [], []
-
-    def add(a: np.ndarray, b: np.ndarray, f: int) -> None:
-        pairs.append(np.stack([a.ravel(), b.ravel()], axis=1))
-        fam.append(np.full(a.size, f, dtype=np.int8))
-
-    if families[STRUCTURAL]:
-        add(idx[:, :-1], idx[:, 1:], STRUCTURAL)
-        add(idx[:-1, :], idx[1:, :], STRUCTURAL)
-    if families[SHEAR]:
-        add(idx[:-1, :-1], idx[1:, 1:], SHEAR)
-        add(idx[:-1, 1:], idx[1:, :-1], SHEAR)
-    if families[BENDING]:
-        add(idx[:, :-2], idx[:, 2:], BENDING)
-        add(idx[:-2, :], idx[2:, :], BENDING)
-    if not pairs:
-        return np.zeros((0, 2), np.int64), np.zeros(0, np.int8)
-    return np.concatenate(pairs).astype(np.int64), np.concatenate(fam)
-
-
 def pinned_indices(nx: int, nz: int, mode: str, seed: int = 0,
                    fraction: float = 0.05) -> np.ndarray:
     """The pinned particles of each mode on an nz-row, nx-column grid. Edges are rows or
@@ -125,15 +101,6 @@ def pinned_indices(nx: int, nz: int, mode: str, seed: int = 0,
     else:
         raise ValueError(f"unknown pin mode {mode!r}")
     return np.unique(np.asarray(sel, dtype=np.int64))
-
-
-def grid_triangles(nx: int, nz: int) -> np.ndarray:
-    idx = np.arange(nx * nz).reshape(nz, nx)
-    a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
-    # One diagonal, (i, j+1)–(i+1, j), in every cell (alternating would change images and wind)
-    t1 = np.stack([a, c, b], axis=-1).reshape(-1, 3)
-    t2 = np.stack([b, c, d], axis=-1).reshape(-1, 3)
-    return np.concatenate([t1, t2]).astype(np.int64)
 
 
 MAX_TETHER_PAIRS = 50_000_000  # particles × pins searched; beyond it, a sample of the pins
@@ -198,9 +165,8 @@ def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
     (fabric.py); diagonal and two-apart distance constraints are then not built."""
     nx, nz = cloth.grid_shape()
     width, length = cloth.dimensions()
-    zz, xx = np.meshgrid(np.linspace(-length / 2, length / 2, nz),
-                         np.linspace(-width / 2, width / 2, nx), indexing="ij")
-    rest = np.stack([xx.ravel(), np.full(nx * nz, cloth.height), zz.ravel()], axis=1)
+    grid = Grid(nx=nx, nz=nz, width=width, length=length)
+    rest = grid.rest_positions(cloth.height)
 
     families = (behavior.structural, behavior.shear, behavior.bending)
     if material is not None:
@@ -209,7 +175,8 @@ def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
     colors = grid_colors(edges, nx)
     order = np.argsort(colors, kind="stable")
     edges, family, colors = edges[order], family[order], colors[order]
-    counts = np.bincount(colors, minlength=12) if len(colors) else np.zeros(0, np.int64)
+    counts = (np.bincount(colors, minlength=NUM_COLORS) if len(colors)
+              else np.zeros(0, np.int64))
     offsets = np.concatenate([[0], np.cumsum(counts[counts > 0])]).astype(np.int64)
     rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
 
@@ -221,7 +188,6 @@ def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
     pins, pin_layout = layout(held, list(pin_groups), rest, nz, nx)
     if not pin_groups:
         pin_layout = None  # every pin held in place: the model's `pinned` says it all
-    grid = Grid.sheet(width, length, nx, nz)
     fabric = None if material is None else build_fabric(material, grid, edges, behavior.shear,
                                                         behavior.bending)
     mass = (particle_masses(nx, nz, cloth.mass, cloth.mass_model) if fabric is None

@@ -9,7 +9,7 @@ import pytest
 
 from cloth_tui.materials.presets import load_presets
 from cloth_tui.sim.fabric.bending import bending_energy, bending_stencils
-from cloth_tui.sim.fabric.material import Grid
+from cloth_tui.sim.grid import Grid
 from ..sim.bent_sheets import cylinder, hinge_sum
 
 WANG = [p for p in load_presets().values() if p.arcsim_stretching and not p.alias_of]
@@ -44,9 +44,9 @@ def test_the_bending_is_what_arcsims_hinges_make_of_the_stored_value():
     """On a bend along the grid, ARCSim's hinges and the grid's energy with B = k/4 agree
     wherever both have a stencil: the hinges have none on the two border strips across the
     bend, (rows − 2)/(rows − 1) of the sheet."""
-    g = Grid.sheet(1.0, 0.6, 33, 18)
+    g = Grid(nx=33, nz=18, width=1.0, length=0.6)
     x = cylinder(g, 0.5, 0)
     for preset in WANG:
         arcsim = preset.arcsim_bending / 8 * hinge_sum(x, g)
         ours = bending_energy(x, bending_stencils(g), preset.bending)
-        assert arcsim == pytest.approx(ours * (g.rows - 2) / (g.rows - 1), rel=2e-3)
+        assert arcsim == pytest.approx(ours * (g.nz - 2) / (g.nz - 1), rel=2e-3)

@@ -26,7 +26,7 @@ def hinge_sum(x, grid):
     """Σ l_e² θ_e² / (A₁ + A₂) over the interior edges of the triangulation with one diagonal,
     (i, j+1)–(i+1, j), per cell: θ the angle between the two triangles' normals, l and A the
     rest edge length and triangle areas. Hinge models are this sum times a coefficient."""
-    idx = np.arange(grid.num_particles).reshape(grid.rows, grid.cols)
+    idx = np.arange(grid.num_particles).reshape(grid.shape)
     a, b, c, d = (idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, :-1].ravel(),
                   idx[1:, 1:].ravel())
     tris = np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)])

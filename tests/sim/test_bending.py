@@ -10,7 +10,7 @@ import pytest
 
 from cloth_tui.sim.fabric.bending import (bending_compliance, bending_energy, bending_gradient,
                                           bending_hessian, bending_stencils)
-from cloth_tui.sim.fabric.material import Grid
+from cloth_tui.sim.grid import Grid
 
 from .bent_sheets import cylinder, hinge_sum
 
@@ -18,8 +18,8 @@ B = 6.4e-5  # N·m (denim)
 RADIUS = 0.5
 
 
-GRIDS = [Grid.sheet(1.0, 0.6, cols, rows) for cols, rows in ((9, 6), (17, 10), (33, 18),
-                                                              (65, 34))]
+GRIDS = [Grid(nx=nx, nz=nz, width=1.0, length=0.6) for nx, nz in ((9, 6), (17, 10), (33, 18),
+                                                                  (65, 34))]
 
 
 def exact(grid):
@@ -27,7 +27,7 @@ def exact(grid):
 
 
 @pytest.mark.parametrize("degrees", [0, 30, 45, 60, 90])
-@pytest.mark.parametrize("grid", GRIDS, ids=lambda g: f"{g.cols}x{g.rows}")
+@pytest.mark.parametrize("grid", GRIDS, ids=lambda g: f"{g.nx}x{g.nz}")
 def test_a_cylinders_energy_is_the_plates_at_any_angle_to_the_grid(grid, degrees):
     energy = bending_energy(cylinder(grid, RADIUS, degrees), bending_stencils(grid), B)
     assert energy == pytest.approx(exact(grid), rel=0.05)
@@ -56,7 +56,7 @@ def test_a_hinge_model_on_the_same_grid_is_about_three_times_too_stiff_at_45_deg
 
 @pytest.fixture(scope="module")
 def small():
-    g = Grid.sheet(0.3, 0.2, 6, 5)
+    g = Grid(nx=6, nz=5, width=0.3, length=0.2)
     return g, bending_stencils(g)
 
 
@@ -113,7 +113,7 @@ def test_a_bent_sheets_energy_does_not_change_when_it_is_turned(small):
 
 
 def test_each_second_derivative_covers_the_sheet_exactly_once():
-    for g in (Grid.sheet(1.0, 0.6, 3, 4), GRIDS[0], GRIDS[2]):
+    for g in (Grid(nx=3, nz=4, width=1.0, length=0.6), GRIDS[0], GRIDS[2]):
         st = bending_stencils(g)
         kinds = {"uu": np.isclose(st.coeffs[:, 1], -2 / g.dx ** 2) & (st.coeffs[:, 3] == 0),
                  "vv": np.isclose(st.coeffs[:, 1], -2 / g.dz ** 2) & (st.coeffs[:, 3] == 0),

@@ -17,7 +17,8 @@ import pytest
 
 from cloth_tui.lab.elastica import cantilever
 from cloth_tui.sim.fabric.bending import bending_gradient, bending_stencils
-from cloth_tui.sim.fabric.material import Grid, lumped_masses
+from cloth_tui.sim.fabric.material import lumped_masses
+from cloth_tui.sim.grid import Grid
 
 DENSITY, GRAVITY, WIDTH = 0.3, 9.81, 0.05
 
@@ -27,7 +28,7 @@ def clamped_strip_drop(load: float, links: int, held: int) -> float:
     length L = (links + ½)·h is 1 m, at wL³/B = load."""
     h = 1.0 / (links + 0.5)
     cols = held + links
-    grid = Grid(rows=2, cols=cols, dx=h, dz=WIDTH)
+    grid = Grid(nx=cols, nz=2, width=h * (cols - 1), length=WIDTH)
     stencils = bending_stencils(grid)
     weight = lumped_masses(grid, DENSITY).reshape(2, cols) * GRAVITY
     rest = grid.rest_positions().reshape(2, cols, 3)

@@ -85,8 +85,8 @@ def test_a_stretched_strip_shows_the_materials_stiffness_in_every_edge(along, st
     assert extension == pytest.approx(0.01 * spacing, rel=1e-5)
     per_width = force[sel] / extension * spacing / strip_width(g, m.edges[sel])
     assert per_width == pytest.approx(stretch, rel=1e-6)
-    middle = (j[sel] == (g.cols - 1) // 2) if along == "x" else (i[sel] == (g.rows - 1) // 2)
-    width = g.depth if along == "x" else g.width
+    middle = (j[sel] == (g.nx - 1) // 2) if along == "x" else (i[sel] == (g.nz - 1) // 2)
+    width = g.length if along == "x" else g.width
     assert force[sel][middle].sum() / width / 0.01 == pytest.approx(stretch, rel=1e-5)
 
 

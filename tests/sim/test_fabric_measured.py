@@ -15,8 +15,9 @@ from cloth_tui.lab.strips import strip_scene
 from cloth_tui.materials.presets import get_preset
 from cloth_tui.materials.schema import material_from_table
 from cloth_tui.scene import Scene
-from cloth_tui.sim.fabric.material import (ALONG_X, ALONG_Z, Grid, pair_compliance, pair_kinds,
+from cloth_tui.sim.fabric.material import (ALONG_X, ALONG_Z, pair_compliance, pair_kinds,
                                            strip_width)
+from cloth_tui.sim.grid import Grid
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.xpbd.fabric_constraints import fabric_energy
@@ -53,8 +54,8 @@ def _tension(sim, along: str) -> float:
     force = -sim.step.solver.lambdas / sim.step.h ** 2  # λ is accumulated for C = L0 − L
     kind, i, j = pair_kinds(g, m.edges)
     sel = kind == (ALONG_X if along == "x" else ALONG_Z)
-    middle = (j[sel] == (g.cols - 1) // 2) if along == "x" else (i[sel] == (g.rows - 1) // 2)
-    return float(force[sel][middle].sum()) / (g.depth if along == "x" else g.width)
+    middle = (j[sel] == (g.nx - 1) // 2) if along == "x" else (i[sel] == (g.nz - 1) // 2)
+    return float(force[sel][middle].sum()) / (g.length if along == "x" else g.width)
 
 
 @pytest.mark.parametrize("along", ["x", "z"])
@@ -118,8 +119,8 @@ def test_the_folds_are_arcsims_rows_by_the_angle_of_their_hinges():
     p = get_preset("denim")
     m = _bent_model("denim", rows=18, cols=33)
     g = m.fabric.grid
-    for degrees, k, across in ((0, p.arcsim_bending, g.rows), (90, 4 * p.bending_by_direction
-                                                             .fold_90, g.cols)):
+    for degrees, k, across in ((0, p.arcsim_bending, g.nz), (90, 4 * p.bending_by_direction
+                                                             .fold_90, g.nx)):
         x = cylinder(g, 0.5, degrees)
         arcsim = k / 8 * hinge_sum(x, g)
         ours = fabric_energy(x, m)["bending"]
@@ -130,7 +131,7 @@ def test_the_folds_are_arcsims_rows_by_the_angle_of_their_hinges():
 def test_the_edges_stand_for_their_strips_as_the_linear_compliance_does():
     from cloth_tui.sim.fabric.stretch_curve import edge_stretch
     material = material_from_table({"preset": "jersey"})
-    g = Grid.sheet(1.0, 0.5, 9, 6)
+    g = Grid(nx=9, nz=6, width=1.0, length=0.5)
     m = _bent_model("jersey", rows=6, cols=9)
     s = edge_stretch(material, g, m.edges)
     np.testing.assert_allclose(s.rest_over_width / s.low,

@@ -7,18 +7,19 @@ import pytest
 
 from cloth_tui.materials.errors import MaterialError
 from cloth_tui.materials.schema import material_from_table
-from cloth_tui.sim.fabric.material import (Grid, cell_shear_strain, damping_factor,
-                                           damping_rate_from_share, grid_pairs, lumped_masses,
+from cloth_tui.sim.fabric.material import (cell_shear_strain, damping_factor,
+                                           damping_rate_from_share, lumped_masses,
                                            membrane_energy, pair_compliance, pair_stiffness,
                                            tension_per_width)
+from cloth_tui.sim.grid import Grid, grid_pairs
 from cloth_tui.scene import Scene
 from cloth_tui.sim.model import build_model, grid_edges
 
 DENIM = material_from_table({"preset": "denim"})      # shear well below stretch
 SWEAT = material_from_table({"preset": "wang2011-navy-sparkle-sweat"})  # shear > weft
-# (cols, rows) from 5×3 to 65×40 cells, cells square and not
-GRIDS = [Grid.sheet(1.0, 0.6, cols, rows) for cols, rows in ((5, 3), (9, 5), (33, 17),
-                                                              (65, 41), (20, 31))]
+# (nx, nz) from 5×3 to 65×40 cells, cells square and not
+GRIDS = [Grid(nx=nx, nz=nz, width=1.0, length=0.6) for nx, nz in ((5, 3), (9, 5), (33, 17),
+                                                                  (65, 41), (20, 31))]
 STRAIN = 1e-4  # small: the energies compared are the linear theory's
 
 
@@ -26,7 +27,7 @@ def test_lumped_masses_are_density_times_area_at_every_resolution():
     for g in GRIDS:
         m = lumped_masses(g, DENIM.areal_density)
         assert m.sum() == pytest.approx(DENIM.areal_density * 0.6)
-        interior = m.reshape(g.rows, g.cols)[1:-1, 1:-1]
+        interior = m.reshape(g.shape)[1:-1, 1:-1]
         assert np.allclose(interior, DENIM.areal_density * g.dx * g.dz)
 
 
@@ -44,7 +45,7 @@ def sheared(grid):
 
 @pytest.mark.parametrize("shear, grid", [("cells", g) for g in GRIDS] +
                          [("springs", g) for g in GRIDS[:4]],
-                         ids=lambda v: f"{v.cols}x{v.rows}" if isinstance(v, Grid) else v)
+                         ids=lambda v: f"{v.nx}x{v.nz}" if isinstance(v, Grid) else v)
 def test_a_uniform_strain_stores_the_continuums_energy(grid, shear):
     area = grid.area
     warp = membrane_energy(stretched(grid, 0), DENIM, grid, shear)
@@ -75,7 +76,7 @@ def test_diagonal_springs_refuse_cells_too_long_for_the_fabric():
                                   "bending": 1e-5})
     with pytest.raises(MaterialError, match=r"needs stretch above 208 N/m \(warp\)"):
         membrane_energy(sheared(g), fabric, g, shear="springs")
-    square = Grid.sheet(1.0, 1.0, 20, 20)
+    square = Grid(nx=20, nz=20, width=1.0, length=1.0)
     assert membrane_energy(sheared(square), fabric, square, shear="springs") > 0
 
 
@@ -92,7 +93,7 @@ def test_stiffness_is_per_unit_width_so_a_finer_grid_has_softer_edges():
     """The same fabric: an edge of a grid twice as fine stands for half the width at half
     the length, so its stiffness is the same, and the compliance of a border edge (half a
     strip) is twice an interior one's."""
-    coarse, fine = Grid.sheet(1.0, 1.0, 11, 11), Grid.sheet(1.0, 1.0, 21, 21)
+    coarse, fine = (Grid(nx=n, nz=n, width=1.0, length=1.0) for n in (11, 21))
     kc = pair_stiffness(DENIM, coarse, grid_pairs(coarse)["u"])
     kf = pair_stiffness(DENIM, fine, grid_pairs(fine)["u"])
     assert np.isclose(kc.max(), kf.max()) and np.isclose(kc.max(), DENIM.stretch_warp)
@@ -104,7 +105,7 @@ def test_the_grid_of_a_model_is_the_models_sheet():
     scene = Scene().with_values({"cloth.size": [1.2, 0.5], "cloth.resolution": 25})
     model = build_model(scene.cloth, scene.behavior)
     g = Grid.of_model(model)
-    assert (g.cols, g.rows) == (model.nx, model.nz) and g.cols != g.rows
+    assert (g.nx, g.nz) == (model.nx, model.nz) and g.nx != g.nz
     expected = model.rest_positions - [0.0, scene.cloth.height, 0.0]
     assert np.allclose(g.rest_positions(), expected)
     assert np.allclose(lumped_masses(g, 0.2 / g.area), model.mass)  # "area" masses alike
@@ -112,7 +113,7 @@ def test_the_grid_of_a_model_is_the_models_sheet():
 
 def test_compliance_follows_the_models_edges_in_any_order():
     nx, nz = 9, 6  # a rectangular sheet: rows and columns cannot be mixed up unnoticed
-    g = Grid.sheet(1.0, 0.6, nx, nz)
+    g = Grid(nx=nx, nz=nz, width=1.0, length=0.6)
     edges, family = grid_edges(nx, nz, (True, True, False))
     order = np.random.default_rng(3).permutation(len(edges))
     edges, family = edges[order], family[order]

@@ -8,7 +8,7 @@ import pytest
 
 from cloth_tui.scene import Scene
 from cloth_tui.sim.effects import tearing
-from cloth_tui.sim.fabric.material import Grid
+from cloth_tui.sim.grid import Grid
 from cloth_tui.sim.run.runner import Simulation
 
 from .test_tearing_by_strength import FRAME, first_tear, pulled_strip
@@ -31,14 +31,14 @@ def clamped_square(cells: int, tear_length: float) -> Scene:
 
 
 def test_a_band_narrower_than_the_grid_is_each_edge_alone():
-    grid = Grid.sheet(1.0, 1.0, 5, 5)
+    grid = Grid(nx=5, nz=5, width=1.0, length=1.0)
     edges = np.array([[0, 1], [5, 6], [10, 11], [0, 5], [1, 6]])
     offsets, members, overlap = tearing.strength_bands(grid, edges, 0.01)
     assert offsets.tolist() == list(range(6)) and members.tolist() == list(range(5))
 
 
 def test_a_band_takes_the_parallel_edges_it_covers_by_how_much_it_covers_them():
-    grid = Grid.sheet(1.0, 1.0, 5, 5)  # spacing 0.25 m
+    grid = Grid(nx=5, nz=5, width=1.0, length=1.0)  # spacing 0.25 m
     along_x = np.array([[5, 6], [10, 11], [15, 16], [0, 1]])  # rows 1, 2, 3, 0 at column 0
     offsets, members, overlap = tearing.strength_bands(grid, along_x, 0.5)
     # row 2's band, 0.5 m wide: its own strip (0.25 m) and half of rows 1's and 3's

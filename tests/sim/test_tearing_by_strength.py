@@ -7,7 +7,8 @@ import pytest
 
 from cloth_tui.scene import Scene
 from cloth_tui.sim.effects import tearing
-from cloth_tui.sim.fabric.material import Grid, strip_width
+from cloth_tui.sim.fabric.material import strip_width
+from cloth_tui.sim.grid import Grid
 from cloth_tui.sim.run.runner import Simulation
 
 STRETCH = 500.0    # N/m, the strip's stretch modulus

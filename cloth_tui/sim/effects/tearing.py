@@ -48,7 +48,8 @@ import numpy as np
 
 from ...materials.schema import stiffness_at_tension
 from ..jit import kernel
-from ..fabric.material import ALONG_X, Grid, pair_kinds, strip_width
+from ..fabric.material import ALONG_X, pair_kinds, strip_width
+from ..grid import Grid
 from ..model import ClothModel
 from ..state import ClothState
 
@@ -121,8 +122,8 @@ def strength_bands(grid: Grid, edges: np.ndarray, tear_length: float
     # across an edge along x lie the rows (spacing dz); across one along z, the columns
     across = np.where(along_x, i, j)
     spacing = np.where(along_x, grid.dz, grid.dx)
-    count = np.where(along_x, grid.rows, grid.cols)
-    lookup = np.full((2, grid.rows, grid.cols), -1, np.int64)
+    count = np.where(along_x, grid.nz, grid.nx)
+    lookup = np.full((2,) + grid.shape, -1, np.int64)
     lookup[along_x.astype(np.int64), i, j] = np.arange(m)
     reach = int(math.ceil(tear_length / (2.0 * min(grid.dx, grid.dz)))) + 1
     owners, members, overlaps = [], [], []

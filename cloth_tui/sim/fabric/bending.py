@@ -18,7 +18,7 @@ its own; so a uniform curvature's energy is exact up to the border. A clamp ther
 three columns, not two: the hinge at its edge must not be a border stencil (measured in
 tests/sim/test_bending_cantilever.py).
 
-Pure numpy; not wired into the solver yet.
+Pure numpy: fabric/build.py builds a material's stencils, which the solvers project.
 """
 
 from __future__ import annotations
@@ -27,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .material import MIN_STIFFNESS, Grid
+from ..grid import Grid
+from .material import MIN_STIFFNESS
 
 
 @dataclass(frozen=True)
@@ -53,20 +54,20 @@ def _second_difference_weights(count: int, spacing: float) -> np.ndarray:
 def bending_stencils(grid: Grid) -> Stencils:
     """Every second-derivative stencil of the grid with its weight: built once per grid
     (the energy's Hessian is constant)."""
-    idx = np.arange(grid.num_particles).reshape(grid.rows, grid.cols)
+    idx = np.arange(grid.num_particles).reshape(grid.shape)
     rows_w, cols_w = grid.row_share(), grid.col_share()
     parts, coeffs, weights = [], [], []
-    if grid.cols >= 3:  # x_uu along each row
+    if grid.nx >= 3:  # x_uu along each row
         p = np.stack([idx[:, :-2], idx[:, 1:-1], idx[:, 2:], idx[:, 1:-1]], axis=-1)
         c = np.array([1.0, -2.0, 1.0, 0.0]) / grid.dx ** 2
-        w = np.outer(rows_w, _second_difference_weights(grid.cols, grid.dx))
+        w = np.outer(rows_w, _second_difference_weights(grid.nx, grid.dx))
         parts.append(p.reshape(-1, 4))
         coeffs.append(np.broadcast_to(c, (p.shape[0] * p.shape[1], 4)))
         weights.append(w.ravel())
-    if grid.rows >= 3:  # x_vv along each column
+    if grid.nz >= 3:  # x_vv along each column
         p = np.stack([idx[:-2, :], idx[1:-1, :], idx[2:, :], idx[1:-1, :]], axis=-1)
         c = np.array([1.0, -2.0, 1.0, 0.0]) / grid.dz ** 2
-        w = np.outer(_second_difference_weights(grid.rows, grid.dz), cols_w)
+        w = np.outer(_second_difference_weights(grid.nz, grid.dz), cols_w)
         parts.append(p.reshape(-1, 4))
         coeffs.append(np.broadcast_to(c, (p.shape[0] * p.shape[1], 4)))
         weights.append(w.ravel())

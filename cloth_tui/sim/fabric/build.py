@@ -22,8 +22,8 @@ import numpy as np
 from ...materials.schema import Material
 from .bending import (Stencils, bending_stencils, directional_bending_compliance,
                       stencil_rigidities)
-from .material import (Grid, cell_corners, cell_shear_compliance, lumped_masses,
-                       pair_compliance)
+from ..grid import Grid
+from .material import cell_shear_compliance, lumped_masses, pair_compliance
 from .stretch_curve import EdgeStretch, edge_stretch
 
 
@@ -74,7 +74,7 @@ def build_fabric(material: Material, grid: Grid, edges: np.ndarray, shear: bool,
     any order); `shear` and `bending` say whether those families are on
     (behavior.shear, behavior.bending)."""
     compliance = pair_compliance(material, grid, edges, shear="cells")
-    cells = cell_corners(grid) if shear else np.zeros((0, 4), np.int64)
+    cells = grid.cell_corners() if shear else np.zeros((0, 4), np.int64)
     stencils = bending_stencils(grid) if bending and material.bending > 0 else None
     stencil_alpha = _stencil_compliance(stencils, material)
     edge_of = _edge_lookup(edges, grid.num_particles)

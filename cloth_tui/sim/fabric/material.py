@@ -1,7 +1,7 @@
 """A material (cloth_tui.materials: SI units) discretised on a regular grid of particles.
 
-The grid has `rows` particles along z and `cols` along x, spacings dz and dx; particle
-(row i, column j) has index i·cols + j, as in model.py (`Grid.of_model`). Everything here
+The grid is sim/grid.py's (nz rows of nx particles, spacings dz and dx, particle (row i,
+column j) at index i·nx + j). Everything here
 follows from the material and the rest geometry alone, so that the same fabric behaves the
 same at every resolution (docs/physics.md, "Materials in SI units", derives each formula):
 
@@ -14,18 +14,18 @@ same at every resolution (docs/physics.md, "Materials in SI units", derives each
 - damping: a decay rate in 1/s applied as a factor per substep, so it does not depend on
   the substep length.
 
-Pure numpy; nothing here is wired into the solver yet.
+Pure numpy: fabric/build.py turns these into the model's fabric.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ...materials.errors import MaterialError
 from ...materials.schema import Material
+from ..grid import Grid, grid_pairs
 
 SHEAR_MODELS = ("cells", "springs")
 # The schema accepts any positive density and stiffness, down to 5e-324. Below these a
@@ -35,94 +35,11 @@ MIN_MASS = 1e-30       # kg per particle
 MIN_STIFFNESS = 1e-30  # N/m per edge, N·m per shear cell: α ≤ 1e30
 
 
-@dataclass(frozen=True)
-class Grid:
-    rows: int    # particles along z
-    cols: int    # particles along x
-    dx: float    # m, between columns
-    dz: float    # m, between rows
-
-    def __post_init__(self) -> None:
-        if self.rows < 2 or self.cols < 2:
-            raise ValueError(f"a grid needs at least 2×2 particles, got {self.rows}×{self.cols}")
-        if not (self.dx > 0 and self.dz > 0):
-            raise ValueError(f"grid spacings must be positive, got dx={self.dx}, dz={self.dz}")
-
-    @classmethod
-    def sheet(cls, width: float, depth: float, cols: int, rows: int) -> "Grid":
-        return cls(rows=rows, cols=cols, dx=width / (cols - 1), dz=depth / (rows - 1))
-
-    @classmethod
-    def of_model(cls, model) -> "Grid":
-        """The grid of a ClothModel (nz rows of nx particles, index i·nx + j)."""
-        return cls(rows=model.nz, cols=model.nx, dx=model.spacing_x, dz=model.spacing_z)
-
-    @property
-    def num_particles(self) -> int:
-        return self.rows * self.cols
-
-    @property
-    def width(self) -> float:
-        return (self.cols - 1) * self.dx
-
-    @property
-    def depth(self) -> float:
-        return (self.rows - 1) * self.dz
-
-    @property
-    def area(self) -> float:
-        return self.width * self.depth
-
-    def index(self, i, j):
-        return np.asarray(i) * self.cols + np.asarray(j)
-
-    def rest_positions(self, height: float = 0.0) -> np.ndarray:
-        """(N, 3): the flat sheet in the x-z plane, centred on the y axis."""
-        x = np.linspace(-self.width / 2, self.width / 2, self.cols)
-        z = np.linspace(-self.depth / 2, self.depth / 2, self.rows)
-        zz, xx = np.meshgrid(z, x, indexing="ij")
-        return np.stack([xx.ravel(), np.full(self.num_particles, height), zz.ravel()], axis=1)
-
-    def row_share(self) -> np.ndarray:
-        """(rows,) m: the height of sheet each row stands for (a border row half a cell)."""
-        return _share(self.rows, self.dz)
-
-    def col_share(self) -> np.ndarray:
-        """(cols,) m: the width of sheet each column stands for."""
-        return _share(self.cols, self.dx)
-
-
-def _share(count: int, spacing: float) -> np.ndarray:
-    share = np.full(count, spacing)
-    share[[0, -1]] = spacing / 2
-    return share
-
-
 def lumped_masses(grid: Grid, areal_density: float) -> np.ndarray:
     """(N,) kg: density × each particle's dual cell; they sum to density × area (each at
     least MIN_MASS)."""
     return np.maximum(areal_density * np.outer(grid.row_share(), grid.col_share()).ravel(),
                       MIN_MASS)
-
-
-def grid_pairs(grid: Grid) -> dict[str, np.ndarray]:
-    """The neighbour pairs of the grid by kind: "u" (along x), "v" (along z) and "diagonal"
-    (both diagonals of every cell), each (M, 2) int64."""
-    idx = np.arange(grid.num_particles).reshape(grid.rows, grid.cols)
-
-    def pairs(a, b):
-        return np.stack([a.ravel(), b.ravel()], axis=1).astype(np.int64)
-
-    return {"u": pairs(idx[:, :-1], idx[:, 1:]), "v": pairs(idx[:-1, :], idx[1:, :]),
-            "diagonal": np.concatenate([pairs(idx[:-1, :-1], idx[1:, 1:]),
-                                        pairs(idx[:-1, 1:], idx[1:, :-1])])}
-
-
-def cell_corners(grid: Grid) -> np.ndarray:
-    """(C, 4) int64 per cell: (i, j), (i, j+1), (i+1, j), (i+1, j+1)."""
-    idx = np.arange(grid.num_particles).reshape(grid.rows, grid.cols)
-    return np.stack([idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]],
-                    axis=-1).reshape(-1, 4).astype(np.int64)
 
 
 def diagonal_spring_stiffness(material: Material, grid: Grid) -> float:
@@ -160,10 +77,10 @@ def pair_kinds(grid: Grid, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     DIAGONAL or OTHER) and the row and column of its lower particle."""
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     if len(pairs) and (pairs.min() < 0 or pairs.max() >= grid.num_particles):
-        raise ValueError(f"pairs name particles outside the {grid.rows}×{grid.cols} grid")
+        raise ValueError(f"pairs name particles outside the {grid.nz}×{grid.nx} grid")
     a, b = pairs.min(axis=1), pairs.max(axis=1)
-    ia, ja = np.divmod(a, grid.cols)
-    ib, jb = np.divmod(b, grid.cols)
+    ia, ja = np.divmod(a, grid.nx)
+    ib, jb = np.divmod(b, grid.nx)
     di, dj = ib - ia, jb - ja
     kind = np.full(len(pairs), OTHER, dtype=np.int8)
     kind[(di == 0) & (dj == 1)] = ALONG_X
@@ -179,7 +96,7 @@ def _refuse(pairs, kind, allowed, grid: Grid) -> None:
         what = ("a diagonal (shear is in the cells)" if kind[e] == DIAGONAL
                 else "not a neighbour pair")
         raise ValueError(f"pair {tuple(int(p) for p in np.asarray(pairs)[e])} of a "
-                         f"{grid.rows}×{grid.cols} grid is {what}")
+                         f"{grid.nz}×{grid.nx} grid is {what}")
 
 
 def strip_width(grid: Grid, pairs: np.ndarray) -> np.ndarray:
@@ -220,7 +137,7 @@ def cell_shear_strain(x: np.ndarray, grid: Grid) -> np.ndarray:
     """(C,) the shear γ of each cell: (|d₁|² − |d₂|²)/(4·dx·dz) with d₁, d₂ its diagonals.
     It is 2·E_xz of the Green strain (γ for a small shear) and exactly 0 however the cell is
     stretched along x or z, so it adds no stiffness to stretching."""
-    c = cell_corners(grid)
+    c = grid.cell_corners()
     d1 = x[c[:, 3]] - x[c[:, 0]]
     d2 = x[c[:, 2]] - x[c[:, 1]]
     return ((d1 * d1).sum(axis=1) - (d2 * d2).sum(axis=1)) / (4 * grid.dx * grid.dz)

@@ -20,7 +20,8 @@ import numpy as np
 
 from ...materials.schema import Material
 from ..jit import kernel
-from .material import ALONG_X, MIN_STIFFNESS, Grid, pair_kinds, strip_width
+from ..grid import Grid
+from .material import ALONG_X, MIN_STIFFNESS, pair_kinds, strip_width
 
 
 @dataclass(frozen=True)
