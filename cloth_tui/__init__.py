@@ -8,10 +8,12 @@ __version__ = "0.1.0"
 
 def _started_as_the_command() -> bool:
     """Whether this process is the `cloth-tui` command (its console script, or `python -m
-    cloth_tui`) rather than a program or a test that imports the package."""
-    if os.path.splitext(os.path.basename(sys.argv[0]))[0] == "cloth-tui":
-        return True
+    cloth_tui`) rather than a program or a test that imports the package. The command line
+    is the interpreter's own: a worker multiprocessing spawns is given its parent's sys.argv."""
     argv = getattr(sys, "orig_argv", [])
+    if (os.path.splitext(os.path.basename(sys.argv[0]))[0] == "cloth-tui"
+            and sys.argv[0] in argv):
+        return True
     return "-mcloth_tui" in argv or any(a == "-m" and b == "cloth_tui"
                                         for a, b in zip(argv, argv[1:]))
 

@@ -18,8 +18,9 @@ import pytest
 
 import cloth_tui
 
-# The console script's own two lines (`from cloth_tui.cli import main; sys.exit(main())`),
-# after a finder that sends SIGINT to this process when module `target` is first looked for.
+# The console script's own two lines (`from cloth_tui.cli import main; sys.exit(main())`)
+# in a process started as the script, after a finder that sends SIGINT to this process when
+# module `target` is first looked for.
 CHILD = """
 import atexit, os, signal, sys
 target, marker = sys.argv[1], sys.argv[2]
@@ -40,6 +41,7 @@ if target == "<exit>":
 else:
     sys.meta_path.insert(0, Trip())
 sys.argv = ["cloth-tui", *sys.argv[3:]]
+sys.orig_argv = [sys.executable, *sys.argv]
 from cloth_tui.cli import main
 sys.exit(main())
 """
@@ -47,6 +49,7 @@ sys.exit(main())
 
 # `python -m cloth_tui ARGS` as the interpreter runs it (runpy), after the same finder.
 CHILD_M = CHILD.replace("""sys.argv = ["cloth-tui", *sys.argv[3:]]
+sys.orig_argv = [sys.executable, *sys.argv]
 from cloth_tui.cli import main
 sys.exit(main())""", """import runpy
 sys.orig_argv = [sys.executable, "-m", "cloth_tui", *sys.argv[3:]]
@@ -70,6 +73,15 @@ def run_tripped(tmp_path, target, *args, child=CHILD):
 def test_ctrl_c_before_mains_guard_is_one_line_and_130(tmp_path, child, target):
     p = run_tripped(tmp_path, target, "scenes", child=child)
     assert (p.returncode, p.stderr) == (130, "cloth-tui: interrupted\n")
+
+
+def test_a_worker_given_the_commands_argv_keeps_pythons_handler():
+    # multiprocessing gives a spawned worker its parent's sys.argv, not its command line
+    code = ("import signal, sys; sys.argv = ['/usr/bin/cloth-tui']; import cloth_tui; "
+            "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=60)
+    assert p.stdout == "True\n", p.stderr
 
 
 @pytest.mark.parametrize("target, args", [
