@@ -279,12 +279,12 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
 
     def apply_scene(self, new: Scene, *, restart: bool = False, shown: bool = False) -> None:
         """Run `new`, a scene the caller has validated, held particles included (where an
-        edit could move one: held_contacts.held_inputs_differ), so the simulation thread
-        does not check again. `shown`: the caller shows what changed (set_value's one key,
-        a list panel's list)."""
+        edit could move one: held_contacts.held_inputs_differ), which the simulation thread
+        then does not check again (held_contacts.check_scene). `shown`: the caller shows
+        what changed (set_value's one key, a list panel's list)."""
         self.scene = new
         if self.sim is not None:
-            self.sim.submit(lambda sim, new=new: sim.set_scene(new, held_checked=True))
+            self.sim.submit(lambda sim, new=new: sim.set_scene(new))
             if restart:
                 self.sim.submit(lambda sim: sim.reset())
                 self.readout.restart()

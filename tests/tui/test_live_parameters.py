@@ -136,8 +136,7 @@ def test_an_edit_that_may_move_a_held_particle_is_checked_once_on_the_ui_thread(
         tmp_path, monkeypatch):
     """Moving an object is checked for held particles in its skin where it is asked for,
     and the simulation thread, which is handed the checked scene, does not check again."""
-    from cloth_tui.sim.run import runner
-    from cloth_tui.tui import panel_actions
+    from cloth_tui.sim.collision import held_contacts
 
     checks: list[str] = []
     ui_thread = threading.get_ident()
@@ -155,9 +154,9 @@ def test_an_edit_that_may_move_a_held_particle_is_checked_once_on_the_ui_thread(
         app = make_app(tmp_path, scene)
         async with app.run_test(size=SIZE) as pilot:
             await until(pilot, lambda: app.sim is not None, what="the simulation")
-            monkeypatch.setattr(panel_actions, "check_start", counted(panel_actions.check_start))
-            monkeypatch.setattr(runner, "check_held_particles",
-                                counted(runner.check_held_particles))
+            # every check, the app's (check_start) and the simulation's, runs this one
+            monkeypatch.setattr(held_contacts, "check_held_particles",
+                                counted(held_contacts.check_held_particles))
             app.post_message(ObjectsPanel.Changed([{**sphere, "center": [0.1, -0.1, 0.0]}]))
             await until(pilot, lambda: sim_scene(app).objects[0].center[0] == 0.1,
                         what="the object moved")

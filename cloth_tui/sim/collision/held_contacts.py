@@ -90,11 +90,31 @@ def _held_inputs(scene: Scene) -> tuple:
             scene.pins, b.wave, b.wave_amplitude, b.seed)
 
 
+# The held inputs (_held_inputs) of the last scene the check passed. The app checks an edit on
+# its own thread, where a refusal keeps its last good settings, before it hands the scene to
+# the simulation, which then does not check the same inputs again. One reference, replaced
+# whole, so the two threads may read and write it.
+_passed: tuple | None = None
+
+
+def check_scene(scene: Scene, model: ClothModel) -> None:
+    """check_held_particles for the model built from `scene` alone (no user pins), unless a
+    scene with the same held inputs passed last."""
+    global _passed
+    inputs = _held_inputs(scene)
+    if inputs == _passed:
+        return
+    check_held_particles(scene, model)
+    _passed = inputs
+
+
 def check_start(scene: Scene) -> None:
     """The same check for a scene that has no simulation yet (the app, before it applies a
     change): a model without tethers is enough, and cheaper."""
+    if _held_inputs(scene) == _passed:
+        return
     behavior = dataclasses.replace(scene.behavior, tethers=False)
-    check_held_particles(scene, build_model(scene.cloth, behavior, scene.pins))
+    check_scene(scene, build_model(scene.cloth, behavior, scene.pins))
 
 
 def _held(scene: Scene) -> str:

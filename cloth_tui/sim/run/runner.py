@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import pipeline
-from ..collision.held_contacts import check_held_particles, held_inputs_differ
+from ..collision.held_contacts import check_held_particles, check_scene, held_inputs_differ
 from ..effects.pins import with_user_pin
 from ..model import build_model, nearest_pins, refitted
 from ..params import same_structure
@@ -43,15 +43,14 @@ class Simulation:
         self._rebuild(scene, model=True)
 
     # -- building -------------------------------------------------------------------------
-    def _rebuild(self, scene: Scene, model: bool, held_checked: bool = False) -> None:
+    def _rebuild(self, scene: Scene, model: bool) -> None:
         """New settings. `model`: a new sheet, so a new run: every counter starts again.
-        Otherwise the sheet goes on, but the recoveries and a halt were the old settings'.
-        `held_checked`: the caller has run held_contacts.check_start on `scene`."""
+        Otherwise the sheet goes on, but the recoveries and a halt were the old settings'."""
         b = scene.behavior
         new_model = build_model(scene.cloth, b, scene.pins, scene_material(scene)) if model \
             else self.model
-        if not held_checked and (model or held_inputs_differ(self.scene, scene)):
-            check_held_particles(scene, new_model)  # before any change: a refusal keeps all
+        if model or held_inputs_differ(self.scene, scene):
+            check_scene(scene, new_model)  # before any change: a refusal keeps all
         self.scene = scene
         if model:
             self.model = new_model
@@ -94,17 +93,16 @@ class Simulation:
             self._nearest_pin = near if sample is None else np.searchsorted(m.pinned, sample[near])
             self._pin_distance = dist
 
-    def set_scene(self, scene: Scene, held_checked: bool = False) -> bool:
+    def set_scene(self, scene: Scene) -> bool:
         """Apply new settings, rebuilding only what changed. Returns whether the sheet was
-        rebuilt (and so restarted). `held_checked`: the caller has checked `scene` for held
-        particles in objects (held_contacts.check_start, as the app does before it asks),
-        so it is not checked again here; otherwise a refusal raises SceneError, changing
-        nothing."""
+        rebuilt (and so restarted). A scene that holds a particle in an object is refused
+        with SceneError, changing nothing (held_contacts.check_scene: not checked again
+        where the app checked the same before it asked)."""
         if same_structure(scene, self.scene):
             self._retune(scene)
             return False
         rebuild_model = needs_new_model(scene, self.scene)
-        self._rebuild(scene, model=rebuild_model, held_checked=held_checked)
+        self._rebuild(scene, model=rebuild_model)
         return rebuild_model
 
     def _retune(self, scene: Scene) -> None:
