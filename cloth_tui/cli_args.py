@@ -56,7 +56,7 @@ def _positive_int(text: str) -> int:
 
 def _size_list(text: str) -> list[int]:
     """The bench's sheet sizes, refused before any work beyond what a scene's sheet can be
-    (cloth.resolution's range: the cost table runs the default scene at each size, and a
+    (cloth.resolution's range: the cost table runs the original scene at each size, and a
     larger bare sheet would only run out of memory)."""
     from .scene import MAX_RESOLUTION
 
@@ -155,7 +155,7 @@ def build_parsers() -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
                    help="sheet sizes of the cost-of-accuracy table (default: --sizes if given, "
                         "else 32,64,128,256; --quick: 32,64)")
     p.add_argument("--no-cost", action="store_true",
-                   help="skip the cost-of-accuracy table (the default scene to its tolerance)")
+                   help="skip the cost-of-accuracy table (the original scene to its tolerance)")
     p.add_argument("--fabric-sizes", type=_fabric_size_list, metavar="N,N,…",
                    help="cells a side of the fabric-cost table (denim held by two clips; "
                         "multiples of 16; default 32,64,128,256; --quick: 16,32)")

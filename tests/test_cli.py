@@ -18,7 +18,7 @@ def test_simulate_default_reports_finite_sheet():
     rc, out, err = run("simulate", "default", "--frames", "120", "--json")
     assert rc == 0, err
     stats = json.loads(out)
-    assert stats["finite"] and stats["particles"] == 26 * 26 and stats["frames"] == 120
+    assert stats["finite"] and stats["particles"] == 33 * 33 and stats["frames"] == 120
     for k in ("constraints", "steps", "min_y", "max_speed", "max_stretch", "mean_stretch",
               "energy", "penetration", "effects", "wall_s"):
         assert k in stats
@@ -26,7 +26,7 @@ def test_simulate_default_reports_finite_sheet():
 
 
 def test_simulate_json_reports_the_tolerance_and_what_it_took():
-    rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
+    rc, out, err = run("simulate", "original", "--frames", "30", "--json", "--set",
                        "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
                        "behavior.iterations=1", "--set", "behavior.error_tolerance=0.03")
     assert rc == 0, err
@@ -36,7 +36,7 @@ def test_simulate_json_reports_the_tolerance_and_what_it_took():
     # the error bounded and the stretch the fabric shows are reported apart (hpbd: equal)
     assert s["solver"] == "hpbd" and 0.0 <= s["error"] <= 0.03
     assert "numerical_damping" in s and s["energy_tolerance"] is None
-    rc, out, err = run("simulate", "default", "--frames", "30", "--json", "--set",
+    rc, out, err = run("simulate", "original", "--frames", "30", "--json", "--set",
                        "behavior.frame_rate=10", "--set", "behavior.substeps=1", "--set",
                        "behavior.iterations=1", "--set", "behavior.max_substeps=1")
     s = json.loads(out)
@@ -72,12 +72,14 @@ def test_simulate_json_reports_the_material_its_error_damping_and_tears():
     s = json.loads(out)
     assert rc == 0 and s["material"] == "denim" and s["torn"] == 0
     assert isinstance(s["numerical_damping"], float) and s["error"] <= s["error_tolerance"]
-    rc, out, err = run("simulate", "default", "--frames", "1", "--json")
+    rc, out, err = run("simulate", "original", "--frames", "1", "--json")
     assert rc == 0 and json.loads(out)["material"] is None
+    rc, out, err = run("simulate", "default", "--frames", "1", "--json")
+    assert rc == 0 and json.loads(out)["material"] == "denim"
 
 
 def test_unpinned_sheet_comes_to_rest_on_floor():
-    rc, out, err = run("simulate", "default", "--set", "cloth.pinned=none", "--frames", "300",
+    rc, out, err = run("simulate", "original", "--set", "cloth.pinned=none", "--frames", "300",
                        "--json")
     s = json.loads(out)
     assert s["penetration"] < 0.002 and s["max_speed"] < 0.5
@@ -88,8 +90,8 @@ def test_dump_writes_positions(tmp_path):
     out = tmp_path / "s.npz"
     assert main(["simulate", "default", "--frames", "2", "--dump", str(out)]) == 0
     d = np.load(out)
-    assert d["positions"].shape == (676, 3) and int(d["resolution"]) == 26
-    assert tuple(d["shape"]) == (26, 26)
+    assert d["positions"].shape == (33 * 33, 3) and int(d["resolution"]) == 33
+    assert tuple(d["shape"]) == (33, 33)
 
 
 def test_dump_of_a_rectangle_writes_its_shape_rows_first(tmp_path):

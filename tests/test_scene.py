@@ -20,7 +20,12 @@ def test_defaults_keep_the_originals_proportions():
 
 def test_builtin_default_is_addressable_by_name():
     assert "default" in builtin_scenes()
-    assert sf.load("default").cloth.resolution == 26
+    assert sf.load("default").cloth.resolution == 33
+
+
+def test_builtin_original_is_the_schema_defaults():
+    """The original's sheet, which the defaults of every key describe."""
+    assert sf.load("original") == Scene()
 
 
 def test_save_and_load_round_trip(tmp_path):

@@ -1,7 +1,7 @@
-"""The cost of accuracy: what each solver spends to meet the default accuracy on the default
-scene as the sheet grows.
+"""The cost of accuracy: what each solver spends to meet the default accuracy on the original's
+sheet (the built-in scene `original`: pinned at its corners, no fabric) as the sheet grows.
 
-For each solver and sheet size n the default scene (adaptive substeps, the default error
+For each solver and sheet size n that scene (adaptive substeps, the default error
 tolerance) runs `frames` frames from rest, `repeats` times from a fresh sheet. Reported:
 the work it needed (substeps per frame the controller ran, redone frames included, and
 substeps × passes per substep, hpbd's coarse levels counted as the fine passes their
@@ -23,7 +23,7 @@ from ..sim.solvers import registry as solver_registry
 
 def solver_runs() -> tuple[tuple[str, dict], ...]:
     """(label, the scene keys it sets) of every registered solver of constraints, the
-    default scene's own first."""
+    original scene's own (the schema's default) first."""
     own = solver_registry.DEFAULT
     rest = [n for n in solver_registry.names(solves_constraints=True) if n != own]
     return ((own, {}),) + tuple((n, {"behavior.solver": n}) for n in rest)
@@ -32,9 +32,9 @@ QUICK_SIZES = (32, 64)
 
 
 def cost_scene(n: int, overrides: dict):
-    """The default scene at n×n with a solver's keys."""
+    """The original scene at n×n with a solver's keys."""
     from ..scene_files import load
-    return load("default").with_values({"cloth.resolution": n, **overrides})
+    return load("original").with_values({"cloth.resolution": n, **overrides})
 
 
 def run_once(scene, frames: int) -> dict:
@@ -115,7 +115,7 @@ def bench_accuracy_cost(sizes=None, quick: bool = False, progress=lambda msg: No
 
 
 def format_cost(r: dict) -> list[str]:
-    out = ["", f"Cost of accuracy: the default scene at the default tolerance (adaptive), "
+    out = ["", f"Cost of accuracy: the original scene at the default tolerance (adaptive), "
                f"{r['frames']} frames from rest, {r['repeats']} runs; work = substeps per "
                f"frame (redone frames included) × passes per substep; ms per simulated frame: "
                f"median [fastest–slowest run]",

@@ -150,7 +150,7 @@ def _step_table(title: str, part: dict) -> list[str]:
                    f"{_spread(s['serial_loop']):>19} | {s['step_vs_serial_loop']:>10.2f}× | "
                    f"{_one_thread(s['one_thread_cpu']):>31} | {numpy:>12}")
     f = part["frames"]
-    out.append(f"  {f['n']}² sheet, default scene, {f['substeps']} substeps × {f['iterations']} "
+    out.append(f"  {f['n']}² sheet, original scene, {f['substeps']} substeps × {f['iterations']} "
                f"iterations, fixed (adaptive off), {f['threads']} thread(s) at the end: "
                f"{_spread(f, '.1f')} simulated frames per wall second")
     return out

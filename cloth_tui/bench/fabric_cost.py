@@ -6,7 +6,7 @@ solver of its stretch) held by two clips at the corners of its top edge, each 1/
 edge long, 1 m above nothing, falling from flat. Every setting is the default (adaptive
 substeps, the default error tolerance, the fabric's own damping). `n` is the number of cells
 a side, a multiple of 16 so every grid's clips hold the same length of edge; the sheet has
-(n + 1)² particles. Reported per solver and size as for the default scene
+(n + 1)² particles. Reported per solver and size as for the original scene
 (accuracy_cost.py): substeps and passes used, whether the tolerance was met, ms per frame
 (median, fastest and slowest run) and the growth exponent of the time in the particles.
 """

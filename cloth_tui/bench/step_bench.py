@@ -94,9 +94,9 @@ def bench_step(n: int, iterations: int = 4, quick: bool = False,
 
 
 def frame_scene(n: int, substeps: int = 4, iterations: int = 4) -> Scene:
-    """The default scene at n×n with pbd's fixed substeps × passes (adaptive off), tethers
+    """The original scene at n×n with pbd's fixed substeps × passes (adaptive off), tethers
     and floor on: the step's throughput, which the cost-of-accuracy table does not show."""
-    return load("default").with_values({
+    return load("original").with_values({
         "cloth.resolution": n, "behavior.solver": "pbd", "behavior.substeps": substeps,
         "behavior.iterations": iterations, "behavior.adaptive": False})
 

@@ -26,7 +26,7 @@ def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
     cost = r["accuracy_cost"]
     assert cost["sizes"] == [6, 8]
     from cloth_tui.sim import solvers
-    # every registered solver of constraints, the default scene's own (no keys) first
+    # every registered solver of constraints, the original scene's own (no keys) first
     ran = [s["solver"] for s in cost["solvers"]]
     assert ran[0] == solvers.DEFAULT and cost["solvers"][0]["keys"] == {}
     assert set(ran) == set(solvers.names(solves_constraints=True))
@@ -35,7 +35,7 @@ def test_bench_reports_steps_contended_and_crumpled_self_collision(capsys):
         assert [row["n"] for row in solver["rows"]] == [6, 8]
         for row in solver["rows"]:
             assert row["ms_min"] <= row["ms_per_frame"] <= row["ms_max"]
-            assert row["substeps_per_frame"] >= 4  # the default scene's floor
+            assert row["substeps_per_frame"] >= 4  # the original scene's floor
             assert row["work_per_frame"] == row["substeps_per_frame"] * row["passes_per_substep"]
             assert isinstance(row["met"], bool) and row["worst_error"] > 0.0
         assert isinstance(solver["exponent"], float) and solver["exponent_64_256"] is None

@@ -16,16 +16,16 @@ from cloth_tui.scene_files import load
 from cloth_tui.sim.run.runner import Simulation
 
 FRAMES = 90
-# The default scene with the original's solver (pbd, adaptive: the default until hpbd), and
-# with xpbd at its scalar compliance without the adaptive control: together they cover both
-# solvers' scalar-α paths.
-RUNS = {"default": ["behavior.solver", "pbd"],
-        "default-xpbd": ["behavior.solver", "xpbd", "behavior.adaptive", False]}
+# The original's sheet (the built-in scene `original`) with the original's solver (pbd,
+# adaptive: the default until hpbd), and with xpbd at its scalar compliance without the
+# adaptive control: together they cover both solvers' scalar-α paths.
+RUNS = {"original": ["behavior.solver", "pbd"],
+        "original-xpbd": ["behavior.solver", "xpbd", "behavior.adaptive", False]}
 
 
 def scene_of(name: str):
     overrides = RUNS[name]
-    scene = load("default")
+    scene = load("original")
     values = dict(zip(overrides[::2], overrides[1::2]))
     return scene.with_values(values) if values else scene
 

@@ -23,6 +23,6 @@ def test_a_scene_without_a_material_reproduces_the_stored_run(name):
 def test_material_original_is_the_scene_without_one():
     from cloth_tui.scene_files import load
 
-    scene = original_run.scene_of("default")
-    assert scene == load("default").with_values({"material": "original",
-                                                 "behavior.solver": "pbd"})
+    scene = original_run.scene_of("original")
+    assert scene == load("original").with_values({"material": "original",
+                                                  "behavior.solver": "pbd"})
