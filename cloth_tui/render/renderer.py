@@ -16,29 +16,23 @@ import numpy as np
 
 from ..sim.collision.surface import grid_cell_triangles, grid_uv, thinned_rows, vertex_normals
 from .antialias import antialias_bottom_up
+from .camera import OrbitCamera
 from ..sim.effects.tearing import intact_triangles, triangle_constraints
 from .geometry import (AMBIENT, HEADLIGHT_INTENSITY, LIGHT_COLOR, LIGHT_DIR, SUN_INTENSITY,
                        drawable, family_colors, hex_rgb, pick_nearest, triangle_edges,
                        view_plane_delta)
 from .pin_markers import PinMarkers
 from .probe import require_renderer
-from .props import GROUND_RADIUS, Ground, Objects, Poles
+from .props import Ground, Objects, Poles
 from .shadow import Shadow
-from .textures import load_texture_image
+from .textures import TextureCache
 from .vtk_setup import pyvista_quiet
 from .wire import grid_gaps_px, wire_edges, wire_look
 
-VIEW_ANGLE = 30.0          # degrees, the original's PerspectiveCamera(30, ...)
-HOME_AZIMUTH = 34.0        # degrees: the original camera at (1000, 50, 1500), seen from the side
-HOME_ELEVATION = 20.0      # degrees: raised a little so the sheet's top is visible
-HOME_DISTANCE = 3.0        # m, for a 1 m sheet
 AUTO_ROTATE_DEG = 0.4      # per rendered frame: one turn in 30 s at 30 fps (three.js's speed 2)
-FIT_ASPECT = 1.0           # views narrower than this move the camera back so the sheet fits
 MIN_CELL_PX = 2.0          # grid cells drawn at least this wide on screen (see _detail_stride)
 BACK_SHADE = 0.8           # the cloth's underside: its colour × this, so folds read
 MAX_SIZE = 8192
-MAX_ELEVATION = 85.0       # degrees up or down: nearer the vertical the view-up flips
-ABOVE_FLOOR = 0.05         # m for a 1 m sheet: the lowest the camera goes above the floor
 
 
 def check_size(w, h) -> tuple[int, int]:
@@ -86,10 +80,8 @@ class Renderer:
         self._pick_state: tuple | None = None      # (world→clip matrix, positions)
         self._scene = None
         self._appearance_key = None
-        self._textures: dict[str, object] = {}
-        self.texture_notices: list[str] = []  # textures drawn without, not yet reported
-        self.azimuth, self.elevation, self.distance = HOME_AZIMUTH, HOME_ELEVATION, HOME_DISTANCE
-        self.target = np.zeros(3)
+        self.textures = TextureCache()
+        self.camera = OrbitCamera()
         self.update_scene(scene)
         self.reset_camera()
 
@@ -103,7 +95,7 @@ class Renderer:
             return
         self._appearance_key = key
         self.plotter.set_background(a.fog_color)
-        self.ground.update(scene, self._texture_image(a.ground_texture))
+        self.ground.update(scene, self.textures.image(a.ground_texture))
         self.shadow.update_scene(scene, self.ground.textured)
         self.poles.update(scene)
         if self.cloth_actor is not None:
@@ -111,33 +103,11 @@ class Renderer:
         if self.lines_actor is not None:
             self.lines_actor.SetVisibility(bool(a.show_constraints))
 
-    def _texture_image(self, name: str):
-        if name not in self._textures:
-            try:
-                self._textures[name] = load_texture_image(name)
-            except Exception as e:  # a texture is decoration: a broken one draws untextured
-                self._textures[name] = None
-                self._texture_failed(e)
-        return self._textures[name]
-
-    def _texture_failed(self, e: Exception) -> None:
-        reason = str(e) if isinstance(e, ValueError) else f"texture: {type(e).__name__}: {e}"
-        self.texture_notices.append(f"{reason}; drawn without it")
-
-    def _make_texture(self, image):
-        if image is None:
-            return None
-        try:
-            return self.pv.Texture(image)
-        except Exception as e:
-            self._texture_failed(e)
-            return None
-
     def _style_cloth(self) -> None:
         a = self._scene.appearance
         color = hex_rgb(a.cloth_color)
-        image = self._texture_image(a.cloth_texture)
-        texture = self._make_texture(image)
+        image = self.textures.image(a.cloth_texture)
+        texture = self.textures.texture(self.pv, image)
         if texture is not None:
             color = np.ones(3) * 0.9  # let the image show its own colours
         for actor in (self.cloth_actor, self.wire_actor):
@@ -262,14 +232,14 @@ class Renderer:
         m = self._model
         if self._scene.appearance.wireframe:
             return 1, 1
-        half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
+        half_height_m = self.camera.half_height(self.size)
         px_per_m = self.size[1] / (2.0 * half_height_m)
         return tuple(1 if count < 3 else max(1, math.ceil(MIN_CELL_PX / max(h * px_per_m, 1e-9)))
                      for count, h in ((m.nz, m.spacing_z), (m.nx, m.spacing_x)))
 
     def _cell_px(self) -> float:
         """How wide a grid cell of the sheet is on screen, at the camera's distance."""
-        half_height_m = self.view_distance() * math.tan(math.radians(VIEW_ANGLE / 2))
+        half_height_m = self.camera.half_height(self.size)
         return self._model.spacing * self.size[1] / (2.0 * half_height_m)
 
     def _shared_lines(self):
@@ -304,64 +274,23 @@ class Renderer:
             return self._positions
         return np.asarray(snapshot.model.rest_positions, dtype=np.float64)
 
-    # -- camera ---------------------------------------------------------------------------
+    # -- camera (camera.py) ----------------------------------------------------------------
     def reset_camera(self) -> None:
-        c, s = self._scene.cloth, self._scene.scene
-        extent = c.extent()  # the longer side: a banner fits the view as a square of its width
-        scale = max(extent, 0.25)
-        self.azimuth, self.elevation = HOME_AZIMUTH, HOME_ELEVATION
-        self.distance = HOME_DISTANCE * scale
-        bottom = max(s.floor_height, c.height - extent) if s.floor else c.height - extent
-        self.target = np.array([0.0, 0.5 * (c.height + bottom) + 0.05 * scale, 0.0])
+        self.camera.home(self._scene.cloth, self._scene.scene)
         self._apply_camera()
 
     def orbit(self, d_azimuth: float, d_elevation: float) -> None:
-        self.azimuth = (self.azimuth + float(d_azimuth)) % 360.0
-        self.elevation = float(np.clip(self.elevation + float(d_elevation),
-                                       -MAX_ELEVATION, MAX_ELEVATION))
+        self.camera.orbit(d_azimuth, d_elevation)
         self._apply_camera()
-
-    def lowest_elevation(self, distance: float) -> float:
-        """Degrees: the camera at this distance stays a little above the floor (from
-        below, the ground hides the cloth and the picture turns upside down)."""
-        c, s = self._scene.cloth, self._scene.scene
-        if not s.floor:
-            return -MAX_ELEVATION
-        lowest_y = s.floor_height + ABOVE_FLOOR * max(c.extent(), 0.25)
-        sine = (lowest_y - self.target[1]) / max(distance, 1e-9)
-        return float(np.clip(math.degrees(math.asin(np.clip(sine, -1.0, 1.0))),
-                             -MAX_ELEVATION, MAX_ELEVATION))
 
     def zoom(self, factor: float) -> None:
         """factor > 1 moves closer."""
-        if factor > 0 and math.isfinite(factor):
-            self.distance = float(np.clip(self.distance / factor, 0.05, 200.0))
+        self.camera.zoom(factor)
         self._apply_camera()
 
-    def view_distance(self) -> float:
-        """The camera's real distance: `distance` in views at least FIT_ASPECT wide; in
-        narrower ones (a tall preview or video) farther, by the aspect ratio, so what fits the
-        width of a square view fits theirs (the horizontal field shrinks with the aspect)."""
-        w, h = self.size
-        return self.distance * max(1.0, FIT_ASPECT * h / w)
-
     def _apply_camera(self) -> None:
-        distance = self.view_distance()
-        # Zooming out (or a higher floor) can take a low camera under the floor, too.
-        self.elevation = max(self.elevation, self.lowest_elevation(distance))
-        az, el = math.radians(self.azimuth), math.radians(self.elevation)
-        offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
-                                      math.cos(el) * math.cos(az)])
-        # VTK's own setters: PyVista's position setter also resets the clipping range from
-        # every actor's bounds (~1 ms a frame), which the line below sets anyway.
-        cam = self.plotter.camera
-        cam.SetFocalPoint(*self.target)
-        cam.SetPosition(*(self.target + offset))
-        cam.SetViewUp(0.0, 1.0, 0.0)
-        cam.SetViewAngle(VIEW_ANGLE)
-        far = distance + 2.0 * GROUND_RADIUS * max(1.0, self._scene.cloth.extent())
-        cam.SetClippingRange(max(0.01, 0.02 * distance), far)
-        self.ground.shade(self.elevation)
+        self.camera.apply(self.plotter.camera, self.size, self._scene.cloth, self._scene.scene)
+        self.ground.shade(self.camera.elevation)
 
     # -- drawing --------------------------------------------------------------------------
     def resize(self, w: int, h: int) -> None:
@@ -385,11 +314,12 @@ class Renderer:
         self.objects.update(snapshot.objects)
         if self.markers is not None:
             self.markers.update(snapshot.model, positions, self._scene.appearance.show_pins)
-        self.shadow.update(positions, (snapshot.model.nx, snapshot.model.nz), self.elevation,
+        self.shadow.update(positions, (snapshot.model.nx, snapshot.model.nz),
+                           self.camera.elevation,
                            self._tri, self._faces_for[1])
         if self._scene.appearance.auto_rotate:
             step = AUTO_ROTATE_DEG if auto_rotate_deg is None else float(auto_rotate_deg)
-            self.azimuth = (self.azimuth + step) % 360.0
+            self.camera.azimuth = (self.camera.azimuth + step) % 360.0
         self._apply_camera()
         image = self._grab()
         w, h = self.size

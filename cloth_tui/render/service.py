@@ -216,7 +216,7 @@ class RenderService:
         return True
 
     def _report_textures(self) -> None:
-        notices, self._renderer.texture_notices = self._renderer.texture_notices, []
+        notices, self._renderer.textures.notices = self._renderer.textures.notices, []
         for text in notices:
             self._emit(CaptureKind.NOTICE, None, text)
 

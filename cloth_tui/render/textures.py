@@ -139,3 +139,35 @@ def _decode_rgb(path: Path) -> np.ndarray:
 if __name__ == "__main__":
     for p in write_builtin():
         print(f"{p} ({p.stat().st_size} bytes)")
+
+
+class TextureCache:
+    """The renderer's texture images by name, each read once. A texture is decoration: a
+    broken one draws untextured, and `notices` says so until the caller takes them."""
+
+    def __init__(self):
+        self._images: dict[str, np.ndarray | None] = {}
+        self.notices: list[str] = []  # textures drawn without, not yet reported
+
+    def image(self, name: str) -> np.ndarray | None:
+        if name not in self._images:
+            try:
+                self._images[name] = load_texture_image(name)
+            except Exception as e:
+                self._images[name] = None
+                self._failed(e)
+        return self._images[name]
+
+    def texture(self, pv, image):
+        """A PyVista texture of `image`, None for none (or one VTK refuses)."""
+        if image is None:
+            return None
+        try:
+            return pv.Texture(image)
+        except Exception as e:
+            self._failed(e)
+            return None
+
+    def _failed(self, e: Exception) -> None:
+        reason = str(e) if isinstance(e, ValueError) else f"texture: {type(e).__name__}: {e}"
+        self.notices.append(f"{reason}; drawn without it")

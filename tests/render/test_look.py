@@ -14,7 +14,7 @@ def fresh(renderer, snap, size=(320, 240), elevation=None):
     renderer.update_scene(snap.scene)
     renderer.reset_camera()
     if elevation is not None:
-        renderer.orbit(0.0, elevation - renderer.elevation)
+        renderer.orbit(0.0, elevation - renderer.camera.elevation)
     return renderer.render(snap)
 
 
@@ -68,7 +68,8 @@ def test_a_tall_view_frames_the_whole_sheet(renderer):
     ndc = h[:, :2] / h[:, 3:]
     assert np.abs(ndc).max() < 0.95  # every particle inside the picture, with a margin
     wide = fresh(renderer, snap, size=(320, 240))
-    assert renderer.view_distance() == renderer.distance and red_pixels(wide) > 1000
+    camera = renderer.camera
+    assert camera.view_distance(renderer.size) == camera.distance and red_pixels(wide) > 1000
 
 
 def test_antialiasing_softens_a_stair_step_and_leaves_flat_areas_alone():

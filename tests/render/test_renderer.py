@@ -84,12 +84,12 @@ def test_orbiting_down_stops_above_the_floor_as_orbiting_up_stops(renderer):
     r, g, b = (renderer.render(snap)[..., k].astype(int) for k in range(3))
     underside = (r > 60) & (r > 2 * g) & (r > 2 * b)  # darker red: seen from below, lit above
     assert underside.sum() > 300  # the cloth is in view, not hidden under the ground
-    low = renderer.elevation
+    low = renderer.camera.elevation
     renderer.zoom(1 / 4)  # farther out at the lowest angle: still above the floor
-    assert _camera_y(renderer) > floor and renderer.elevation > low
+    assert _camera_y(renderer) > floor and renderer.camera.elevation > low
     for _ in range(12):
         renderer.orbit(0, 10)
-    assert renderer.elevation == 85.0
+    assert renderer.camera.elevation == 85.0
     renderer.reset_camera()
 
 
@@ -98,7 +98,7 @@ def test_without_a_floor_the_camera_orbits_below(renderer):
     fresh(renderer, snap)
     for _ in range(12):
         renderer.orbit(0, -10)
-    assert renderer.elevation == -85.0
+    assert renderer.camera.elevation == -85.0
     renderer.update_scene(scene_with())
     renderer.reset_camera()
 

@@ -90,8 +90,8 @@ def test_screen_delta_follows_an_orbited_camera(service):
     service.submit(snap)
     service.got.frames.get(timeout=30)
     r = service._renderer
-    az, el = math.radians(r.azimuth), math.radians(r.elevation)
-    assert abs(r.azimuth - 104) < 1e-9  # home 34° + 70°: seen from the other side
+    az, el = math.radians(r.camera.azimuth), math.radians(r.camera.elevation)
+    assert abs(r.camera.azimuth - 104) < 1e-9  # home 34° + 70°: seen from the other side
     view = -np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])
     m, positions = r._pick_state
 

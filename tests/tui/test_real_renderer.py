@@ -43,9 +43,9 @@ def test_real_renderer_end_to_end(tmp_path):
             await pilot.press("up")
             await until(pilot, lambda: app.sim.latest.positions[target][1] > y0 + 0.04)
             # seen from behind (orbit 180°), dragging right pulls the particle towards -x
-            az = app.renderer._renderer.azimuth
+            az = app.renderer._renderer.camera.azimuth
             app.renderer.orbit(180, 0)
-            await until(pilot, lambda: abs(app.renderer._renderer.azimuth - az) > 1)
+            await until(pilot, lambda: abs(app.renderer._renderer.camera.azimuth - az) > 1)
             await pilot.pause(0.3)  # the redraw that saves the orbited camera for picking
             assert app._place_crosshair()
             cx, cy = app.preview._cell(app.preview.crosshair)
