@@ -96,3 +96,16 @@ def test_at_the_default_scenes_settings_a_32_cell_sheet_hangs_within_1_percent()
 
     converged = sag(4, 20, adaptive=False)
     assert abs(sag(1, 2, adaptive=True) / converged - 1) < 0.01
+
+
+def test_with_bdf2_the_edges_multipliers_are_their_force_over_the_substep():
+    """Tearing by strength reads each edge's force as λ/h² with the substep's h, whatever
+    the step's own length (BDF2's is 2h/3)."""
+    sim = clipped_denim(8, **{"behavior.energy_tolerance": 0.05, "behavior.adaptive": False})
+    for _ in range(20):
+        sim.advance_frame()
+    m, x, h = sim.model, sim.state.x, sim.step.h
+    length = np.linalg.norm(x[m.edges[:, 1]] - x[m.edges[:, 0]], axis=1)
+    k = sim.step.solver.projection.k_edge
+    assert np.allclose(sim.step.solver.lambdas, h * h * k * (m.rest_length - length))
+    assert np.abs(sim.step.solver.lambdas).max() > 0.0

@@ -152,16 +152,16 @@ class SolveImplicitStep:
                               self.sten_alive, 1.0, grad, want_grad)
 
     def elastic_energy(self, x, alive) -> float:
-        """J: E(x), the material's energy at x (no inertia term: y = x, so the masses it is
-        weighed with are any)."""
+        """J: E(x), the material's energy at x (y = x: the inertia term is zero, whatever
+        masses it is given)."""
         m = self.model
         return step_objective(x, x, m.mass, m.inv_mass, m.edges, m.rest_length, self.k_edge,
                               alive, self.cells, self.cell_alive, self.k_cell, self.scale,
                               self.sten_p, self.sten_c, self.k_sten, self.sten_alive, 1.0,
                               self._g_new, False)
 
-    def apply(self, state, h):
-        h = h * self.step_share
+    def apply(self, state, substep: float):
+        h = substep * self.step_share
         self._prepare(state, h)
         x, y, alive = state.x, self._y, state.alive
         y[...] = x
@@ -216,7 +216,9 @@ class SolveImplicitStep:
         self._last_step = last
         self._count = count if KEEP_HISTORY else 0
         m = self.model
-        edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, h * h, self.lambdas)
+        # in the substep's own h²: the tearing stage reads λ/h² with it
+        edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, substep * substep,
+                         self.lambdas)
 
     def last_move(self) -> float:
         """m: the largest move of a particle in the last substep's last iteration (where its
