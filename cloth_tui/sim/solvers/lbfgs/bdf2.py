@@ -5,8 +5,8 @@
 so x⁺ is implicit Euler's minimum over a step of h' = 2h/3 from the prediction
 y = x̂ + h'·v̂ + h'²·a_ext, and the solve stage (solver.py) is the same minimisation with h'.
 Like implicit Euler it damps what the substep cannot resolve (ωh ≫ 1), but a motion it
-resolves loses energy at about (ωh)⁴ per step where implicit Euler loses (ωh)²: a swinging
-sheet keeps its energy at the substeps implicit Euler would damp.
+resolves loses energy at about (ωh)⁴ per step where implicit Euler loses (ωh)², so a swing
+loses less at the same substeps (docs/physics.md, lbfgs).
 
 The past (xₙ₋₁, vₙ₋₁) is the last substep's, where nothing moved the sheet since (a new
 step, a redone frame, a push or a pin start from a past of constant velocity, xₙ₋₁ =
@@ -104,16 +104,20 @@ class PredictBDF2(IntegrateVerlet):
 
 
 class VelocitiesBDF2:
-    """v⁺ = (x⁺ − x̂)/h' (module docstring), clamped as update_velocities clamps."""
+    """v⁺ = (x⁺ − x̂)/h' (module docstring), clamped as update_velocities clamps; a held
+    particle keeps the speed its pin drives it at, (x⁺ − xₙ)/h."""
 
     name = "update_velocities_bdf2"
 
     def __init__(self, model, params: StepParams, predict: PredictBDF2):
         self.inv_mass = model.inv_mass
+        self.held = np.flatnonzero(model.inv_mass == 0)
         self.params = params
         self.predict = predict
 
     def apply(self, state, h):
         update_velocities(state.x, self.predict.base, state.v, self.inv_mass,
                           1.0 / (STEP_SHARE * h), self.params.max_speed)
+        held = self.held
+        state.v[held] = (state.x[held] - state.x_prev[held]) / h
         self.predict.ended(state)
