@@ -85,7 +85,7 @@ def test_render_to_an_existing_folder_with_a_file_name_exits_2(tmp_path, name):
 
 def test_the_reported_divergence_inside_a_frame_halts_with_a_reason_not_a_crash():
     # issue 19's example: a ZeroDivisionError in the black hole's kernel before the guard ran
-    code, out, err = run_cli(["simulate", "default", "--set", "behavior.solver=springs",
+    code, out, err = run_cli(["simulate", "original", "--set", "behavior.solver=springs",
                               "--set", "behavior.integrator=verlet", "--set",
                               "behavior.stiffness=1e9", "--set", "forces.custom=black_hole",
                               "--frames", "10", "--json"])
