@@ -143,3 +143,16 @@ def test_a_burst_that_goes_on_after_a_raise_raises_again_at_once():
     assert raised > 4
     # the frames before, as the raised count would have had them, are in the recent mean
     assert c.accept(0.001, damping=0.4) > raised
+
+
+def test_frames_whose_damping_is_not_measured_leave_no_stale_burst_behind():
+    # a drop whips round (raised to the cap), then lies on the floor, where contacts make
+    # the damping unmeasurable: the count comes down and stays down
+    c = SubstepController(tolerance=0.05, floor=1, cap=128, energy_tolerance=0.05)
+    while c.substeps < c.cap:
+        c.accept(0.0, damping=1.0)
+    for _ in range(ENERGY_SLACK_FRAMES):
+        c.accept(0.0, damping=None)
+    assert c.substeps == 64
+    for _ in range(ENERGY_FRAMES):
+        assert c.accept(0.0, damping=None) == 64

@@ -27,7 +27,10 @@ early) is bounded as energy lost is, by |d̄|:
   MAX_RAISE·n, never above the cap): a burst is met within a few frames, where the mean
   since the last change would take as long to rise as the quiet frames before it; d
   falls about as h (measured on a swinging sheet: roughly as n^−0.8), so taking it as order
-  1 raises a little more than needed rather than less;
+  1 raises a little more than needed rather than less. A raise keeps the recent frames' d
+  as the new count would have had them, d·n/n' (d ∝ h), so a burst that goes on raises again
+  at the next frame; a lowering, and a frame whose d is not measured (a contact, a tear),
+  start the recent frames afresh;
 - the lowering above also keeps n · d̄ · ENERGY_SAFETY/τ_E, d̄ the mean since the count last
   changed, and waits ENERGY_SLACK_FRAMES instead:
   the damping comes in bursts (a swing's free edge whipping round), which a quiet
@@ -99,10 +102,12 @@ class SubstepController:
         """Whether a frame of this error meets τ, and the recent mean damping τ_E."""
         return self._error_need(error) <= 1.0 and self._energy_need() <= 1.0
 
-    def _set(self, substeps: int) -> None:
-        # the recent frames' damping as the new count would have had it (d ∝ h): a burst
-        # that goes on after a raise is met at once, not ENERGY_FRAMES frames later
-        self.recent[:] = [d * self.substeps / substeps for d in self.recent]
+    def _set(self, substeps: int, carry: bool = False) -> None:
+        if carry:  # a raise: a burst that goes on is met at once, not ENERGY_FRAMES later
+            # the recent frames' damping as the new count would have had it (d ∝ h)
+            self.recent[:] = [d * self.substeps / substeps for d in self.recent]
+        else:  # (a lowering carried over would read as a burst and raise straight back)
+            self.recent.clear()
         self.substeps = substeps
         self.slack_frames = self.damping_frames = 0
         self.window_error = self.damping_sum = 0.0
@@ -117,7 +122,7 @@ class SubstepController:
         need = self._error_need(error)
         if need <= 1.0 or not self.adaptive or self.substeps >= self.cap:
             return None
-        self._set(self._raised(need))
+        self._set(self._raised(need), carry=True)
         return self.substeps
 
     def accept(self, error: float, damping: float | None = None) -> int:
@@ -128,13 +133,16 @@ class SubstepController:
             self.damping_frames += 1
             self.recent.append(damping)
             del self.recent[:-ENERGY_FRAMES]
+        else:  # (a contact, a tear: the frames before it are no longer recent)
+            self.recent.clear()
         self.met = self.meets(error)
         if not self.adaptive:
             return self.substeps
         self.slack_frames += 1
         self.window_error = max(self.window_error, error)
         if self._energy_need(recent=True) > 1.0 and self.substeps < self.cap:
-            self._set(self._raised(self._energy_need(ENERGY_SAFETY, recent=True) / SAFETY))
+            self._set(self._raised(self._energy_need(ENERGY_SAFETY, recent=True) / SAFETY),
+                      carry=True)
         elif self.slack_frames >= (SLACK_FRAMES if self.energy_tolerance is None
                                    else ENERGY_SLACK_FRAMES):
             need = max(self._error_need(self.window_error, SAFETY),
