@@ -124,3 +124,18 @@ def test_with_bdf2_a_moving_pin_keeps_the_speed_it_is_driven_at():
         sim.advance_frame()
     moving = sim.model.pinned[:2]
     assert np.allclose(sim.state.v[moving], [0.6, 0.0, 0.0])
+
+
+def test_a_step_made_again_at_a_substep_count_it_had_finds_its_factor(monkeypatch):
+    """The control moves between substep counts and each change builds a new step: going
+    back to a count factors nothing again."""
+    from cloth_tui.sim.solvers.lbfgs import step_matrix
+
+    made = []
+    factor = step_matrix.factor
+    monkeypatch.setattr(step_matrix, "factor", lambda matrix: made.append(1) or factor(matrix))
+    sim = clipped_denim(8, **{"behavior.substeps": 1, "behavior.adaptive": False})
+    for substeps in (1, 2, 1, 2):
+        sim.set_scene(sim.scene.with_values({"behavior.substeps": substeps}))
+        sim.advance_frame()
+    assert len(made) == 2

@@ -41,7 +41,7 @@ from .step_energy import (
     step_to,
 )
 from .bdf2 import STEP_SHARE, PredictBDF2, VelocitiesBDF2
-from .step_matrix import factor, step_matrix
+from .step_matrix import kept_factor
 
 HISTORY = 5        # L-BFGS pairs kept: more buys little once P carries the low frequencies
 ARMIJO = 1e-4      # sufficient decrease of a line search step
@@ -132,7 +132,7 @@ class SolveImplicitStep:
         self._h = h
         self._count = 0
         self.mass_h2 = np.ascontiguousarray(m.mass / (h * h))
-        self._lu = factor(step_matrix(m, self.k_edge * state.alive, self.k_sten, h, 1.0))
+        self._lu = kept_factor(m, self.k_edge * state.alive, self.k_sten, h)
         self._torn_factored = state.torn
         self._since_factor = 0
 

@@ -1,5 +1,6 @@
 """The constant matrix P = M/h² + θ·(Σ_edges k_e A_eᵀA_e + Σ_cells w_c (diagonals) + Q_B), one
-N×N matrix for x, y and z alike, factored once per substep length and pin set.
+N×N matrix for x, y and z alike, factored once per substep length and pin set (and kept for a
+step made again with the same: `kept_factor`).
 
 It is the Hessian of the step's objective (step_energy.py) with every edge held at its rest
 length and no geometric stiffness: exact for the bending energy (linear stencils: Q_B is its
@@ -12,7 +13,14 @@ grows as N log N, and so does a solve."""
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
+
+# Factors kept for steps made again: the accuracy control moves a sheet between two substep
+# counts, and each change builds a new step (a 256² factor is ~150 MB, 1.4 s of CPU).
+FACTORS_KEPT = 2
+_kept: list = []  # (model's weak reference, the matrix's inputs, factor), the latest last
 
 
 def shear_weight(fabric) -> float:
@@ -61,3 +69,20 @@ def factor(matrix):
     """A solver for P: `.solve(b)` with b (N, 3)."""
     from scipy.sparse.linalg import splu
     return splu(matrix, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+
+
+def kept_factor(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float):
+    """factor(step_matrix(...)) for `model`'s held particles now, the same object again
+    where one of the last FACTORS_KEPT was made from the same inputs."""
+    inputs = (h, (model.inv_mass == 0).tobytes(), k_edge.tobytes(), k_stencil.tobytes())
+    _kept[:] = [entry for entry in _kept if entry[0]() is not None]  # (a sheet let go)
+    for entry in _kept:
+        ref, made_from, lu = entry
+        if ref() is model and made_from == inputs:
+            _kept.remove(entry)
+            _kept.append(entry)
+            return lu
+    lu = factor(step_matrix(model, k_edge, k_stencil, h, 1.0))
+    _kept.append((weakref.ref(model), inputs, lu))
+    del _kept[:-FACTORS_KEPT]
+    return lu
