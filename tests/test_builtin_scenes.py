@@ -1,4 +1,5 @@
-"""Every built-in scene: a one-line description, loads, and runs 300 frames stably."""
+"""Every built-in scene: a one-line description, loads, runs 300 frames stably and says what
+fabric it is; the default scene, a fabric, hangs the same at every grid."""
 
 import subprocess
 import sys

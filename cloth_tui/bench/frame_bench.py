@@ -21,7 +21,8 @@ def bench_frames(quick: bool = False) -> list[dict]:
 
     cols, rows = PREVIEW_CELLS
     width, height = cols * SCALE, 2 * rows * SCALE
-    # 128² at a fixed 4 substeps: the adaptive default would spend ~50 on its fall (docs/physics.md)
+    # 128² and 256² at the scene's own fixed substeps (adaptive off): a frame's cost, not the
+    # accuracy control's choice of substeps during the fall
     cases = [("default", {}),
              ("default 128×128", {"cloth.resolution": 128, "behavior.adaptive": False}),
              ("default 256×256", {"cloth.resolution": 256, "behavior.adaptive": False})]
