@@ -39,7 +39,7 @@ MASS_MODELS = ("area", "uniform")
 PIN_MODES = ("none", "corners", "one_edge", "two_edges", "four_edges", "random")
 SOLVERS = solver_registry.Names()  # live: a solver registered later is a choice too
 INTEGRATORS = ("auto", "verlet", "explicit_euler", "symplectic_euler", "midpoint", "rk4",
-               "implicit_euler")
+               "implicit_euler", "bdf2")
 SHAPE_TYPES = shapes.single_object_names()  # scene.object: the original's shapes
 OBJECT_TYPES = shapes.names()
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
@@ -186,7 +186,8 @@ class Behavior:
                           SOLVERS, key=lambda n: n != solver_registry.DEFAULT)),
                       choices=SOLVERS)
     integrator: str = key("auto", "time integrator; auto: each solver's own (" + _auto_integrators()
-                          + "); a solver refuses one it does not run", choices=INTEGRATORS)
+                          + "; lbfgs: bdf2 where energy_tolerance is set); a solver refuses one "
+                          "it does not run", choices=INTEGRATORS)
     compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,
                             hi=1.0)
     stiffness: float = key(2000.0, "springs: spring constant (explicit integrators need "

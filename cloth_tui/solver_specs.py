@@ -153,4 +153,4 @@ register(SolverSpec(
     summary="lbfgs (a material's implicit step by quasi-Newton with a prefactored matrix: "
             "a fabric's equilibrium at a cost that grows with the sheet)",
     load=_in_folder("lbfgs.solver", "LBFGSSolver"), takes_material=True,
-    solves_constraints=False, tethers=False, integrators=("implicit_euler",)))
+    solves_constraints=False, tethers=False, integrators=("implicit_euler", "bdf2")))

@@ -4,6 +4,7 @@ tolerance; and an energy tolerance the user sets is met on an undamped denim she
 drops from two clips and whips round (BDF2 substeps, raised as its damping asks)."""
 
 import numpy as np
+import pytest
 
 from cloth_tui.bench.fabric_cost import clipped_fabric_scene
 from cloth_tui.sim.run.runner import Simulation
@@ -139,3 +140,17 @@ def test_a_step_made_again_at_a_substep_count_it_had_finds_its_factor(monkeypatc
         sim.set_scene(sim.scene.with_values({"behavior.substeps": substeps}))
         sim.advance_frame()
     assert len(made) == 2
+
+
+def test_bdf2_is_lbfgss_when_asked_for_and_no_other_solvers():
+    from cloth_tui.scene import SceneError
+
+    asked = clipped_denim(8, **{"behavior.integrator": "bdf2"})
+    assert "predict_bdf2" in asked.step.names
+    assert "integrate_verlet" in clipped_denim(8).step.names  # auto, no energy tolerance
+    implicit = clipped_denim(8, **{"behavior.energy_tolerance": 0.05,
+                                   "behavior.integrator": "implicit_euler"})
+    assert "integrate_verlet" in implicit.step.names
+    with pytest.raises(SceneError, match="lbfgs"):
+        clipped_fabric_scene(8, {"behavior.solver": "xpbd", "behavior.integrator": "bdf2",
+                                 "material": {"preset": "denim"}})

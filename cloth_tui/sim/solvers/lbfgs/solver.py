@@ -16,8 +16,8 @@ the fabric's equilibrium is at any iteration count (a step that stops early stop
 Φ on the way there: it slows the motion, it does not move the rest state). What stopping
 early costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
 measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
-is the step when the scene bounds numerical damping (behavior.energy_tolerance) and leaves
-behavior.integrator at auto.
+is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
+damping (behavior.energy_tolerance).
 
 The frame's solve error (`LBFGSSolver.solve_error`, which the accuracy control bounds) is the
 last iteration's largest move over the shortest rest length: λ here is the solved step's
@@ -54,8 +54,10 @@ REFACTOR_AFTER_TEAR = 30  # substeps between refactorings while the sheet tears
 
 
 def bdf2_for(behavior) -> bool:
-    """Whether the substeps are BDF2 (bdf2.py), not implicit Euler."""
-    return behavior.integrator == "auto" and behavior.energy_tolerance > 0
+    """Whether the substeps are BDF2 (bdf2.py), not implicit Euler: asked for, or `auto`
+    where the scene bounds numerical damping."""
+    return behavior.integrator == "bdf2" or (behavior.integrator == "auto"
+                                             and behavior.energy_tolerance > 0)
 
 
 class SolveImplicitStep:
