@@ -66,8 +66,8 @@ def undamped_drop(**keys):
 
 
 def test_an_energy_tolerance_of_5_percent_keeps_an_undamped_drop_within_5_percent():
-    """Implicit Euler loses 68 % of it at 1 substep, and still 19 % at the cap of 128 when
-    the control raises for this tolerance; BDF2 raised as its damping asks, 3–5 %."""
+    """Measured: BDF2 raised as its damping asks loses 2.3 %; implicit Euler under the same
+    control 14 %, and over 30 % at the scene's 1 substep (the next test)."""
     lost, used, sim = undamped_drop(**{"behavior.energy_tolerance": 0.05})
     assert 0.0 <= lost <= 0.05, (lost, used)
     assert max(used) > 1  # the work it took, reported per frame
