@@ -68,7 +68,7 @@ def step_table(title: str, part: dict) -> list[str]:
                    f"{s['step_vs_serial_loop']:.2f}× | "
                    f"{s['one_thread_cpu']['step_vs_serial_loop']:.2f}× | {numpy} |")
     f = part["frames"]
-    out += ["", f"{f['n']}² sheet, default scene, pbd {f['substeps']} substeps × "
+    out += ["", f"{f['n']}² sheet, original scene, pbd {f['substeps']} substeps × "
                 f"{f['iterations']} iterations, fixed: **{_spread(f, '.1f')}** simulated "
                 f"frames per wall second ({f['threads']} thread(s) at the end)."]
     return out
@@ -76,7 +76,7 @@ def step_table(title: str, part: dict) -> list[str]:
 
 def cost_table(c: dict) -> list[str]:
     out = ["", "### The cost of accuracy", "",
-           f"The default scene at its 5 % tolerance (adaptive), {c['frames']} frames from rest, "
+           f"The original scene at its 5 % tolerance (adaptive), {c['frames']} frames from rest, "
            f"{c['repeats']} runs; work = substeps per frame × passes per substep (hpbd's coarse "
            "levels counted as the fine passes their projections equal).", "",
            "| solver | n | substeps/frame | work | met | worst error | ms per frame | "

@@ -60,7 +60,7 @@ PARAMETER_KEYS: dict[str, Callable[[Any], Any]] = {
 class StepParams:
     """What the stages read each substep. Assigned only between frames, on the thread that
     steps (the simulation's), so a substep never sees half a change. The defaults are the
-    default scene's (a test holds them to it)."""
+    schema's (the original scene's; a test holds them to it)."""
     gravity: float = 9.81           # m/s², downward (forces.gravity_strength)
     wind_speed: float = 5.0         # m/s (forces.wind_strength)
     wind_direction: tuple = (0.0, 0.0, 1.0)  # unit vector the air moves along

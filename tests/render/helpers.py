@@ -23,7 +23,7 @@ def scene_with(**appearance) -> Scene:
 
 def draped(scene: Scene, sag: float = 0.25, model=None, frame: int = 1,
            objects: tuple = ()) -> Snapshot:
-    """The sheet sagging between its corners like the default scene after a second."""
+    """The sheet sagging between its corners like the original scene after a second."""
     model = model or build_model(scene.cloth, scene.behavior)
     x = np.array(model.rest_positions, dtype=np.float64)
     width, length = scene.cloth.dimensions()

@@ -6,7 +6,8 @@ from cloth_tui.scene import Scene
 
 
 def scene(**overrides) -> Scene:
-    """`scene(cloth__resolution=8)` is the default scene with cloth.resolution = 8."""
+    """`scene(cloth__resolution=8)` is the schema's defaults (the original scene) with
+    cloth.resolution = 8."""
     return Scene().with_values({k.replace("__", "."): v for k, v in overrides.items()})
 
 

@@ -90,7 +90,7 @@ def test_a_compressed_sheet_is_left_alone():
 
 
 def test_hpbd_meets_the_tolerance_in_fewer_substeps_as_the_sheet_grows():
-    """The default scene, adaptive: the work the tolerance costs. pbd's substeps grow with
+    """The original scene, adaptive: the work the tolerance costs. pbd's substeps grow with
     the sheet (a pass carries a correction one particle); hpbd's stay at the scene's floor."""
     runs = {}
     for n in (24, 48):
