@@ -87,9 +87,9 @@ def settling_damping(free_length: float, material, along: str = "warp") -> float
 
 def material_table(material, damping: float) -> dict:
     """The scene's [material] section for `material`, with `damping` (1/s) for settling.
-    Its bending by direction is written as the [warp, weft] strips' rigidities, which keep
-    every fold a strip or a disc bends along x or z (a preset's measured bias becomes the
-    pair's, and its stretch is linear)."""
+    Its bending by direction is written as the [warp, weft] strips' rigidities: a strip
+    along x or z bends as the material does, while a preset's measured 45° fold becomes
+    the pair's (twist stencils of √(B_warp·B_weft)) and its stretch is linear."""
     from ..materials.schema import strip_rigidities
     warp, weft = strip_rigidities(material)
     return {"areal_density": material.areal_density,
