@@ -27,9 +27,9 @@ def end_at_start_up(_signum, _frame):
 
 if _started_as_the_command():
     # As early as any of the command's code runs: the console script's and runpy's own
-    # lines, and loading cli.py, come before main's guard, where Ctrl+C was a traceback.
-    # _signal is the built-in module signal.py wraps: loaded with the interpreter, where
-    # signal.py would first import enum (milliseconds more without the guard).
+    # lines, and loading cli.py, come before main's guard, and Ctrl+C there would be a
+    # KeyboardInterrupt traceback. _signal is the built-in module signal.py wraps, loaded
+    # with the interpreter: signal.py would first import enum, milliseconds unguarded.
     import _signal
 
     # (a process started with SIGINT ignored, nohup or a background job, keeps ignoring it)
