@@ -5,6 +5,11 @@ The server runs no simulation itself: each browser that opens the page gets its 
 (`python -m cloth_tui.served_app SCENE …`), whose screen and keys travel over a websocket. In there
 the preview draws in half-block cells (graphics/detect.py sees the web driver) and every capture is
 also handed to the browser as a download (capture_actions.py).
+
+A visitor's app would spend seconds starting (imports, numba's kernels, the renderer's start)
+before its first picture, and a minute on a cold numba cache. So the server keeps one spare app
+that has done all that (serve_apps.Spare), from its start: the first spare's compile notice is
+the server's own start-up report. The next visitor takes it; a new one is started a little later.
 """
 
 from __future__ import annotations
@@ -23,6 +28,9 @@ from .usage import UsageError
 MISSING_EXTRA = ("serve needs the [serve] extra (textual-serve): "
                  "pip install 'cloth-tui[serve]'")
 BAKE_SUFFIXES = (".usd", ".usdc", ".usda")
+# s after a visitor took the spare before the next one starts: its warm-up would take a core
+# from the visitor's app while that starts and draws its first pictures
+NEXT_SPARE_AFTER_S = 30.0
 
 
 def is_local(host: str) -> bool:
@@ -93,12 +101,14 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
     from aiohttp.web_runner import GracefulExit
     from textual_serve.server import Server, to_int
 
-    from .serve_apps import VisitorApp, with_download_links
+    from .serve_apps import Spare, VisitorApp, with_download_links
 
     visits: dict[asyncio.Task, VisitorApp] = {}  # one per open page: its handler, its app
 
     class ClothServer(Server):
         exiting = False
+        spare: asyncio.Task | None = None  # starting the next visitor's app (a Spare)
+        next_spare: asyncio.TimerHandle | None = None
 
         def serve(self, debug: bool = False) -> None:
             """textual-serve's own `serve`, but the start lines are printed once the port is
@@ -123,6 +133,27 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
         def _listening(self, _aiohttp_banner: str) -> None:
             for line in start_lines(host, port, captures_dir):
                 print(line, flush=True)  # flushed: a pipe (a test, a log) sees it at once
+            self.start_spare()
+
+        def start_spare(self) -> None:
+            self.next_spare = None
+            if not self.exiting:
+                self.spare = asyncio.get_running_loop().create_task(
+                    Spare.start(self.command, self.debug, _log))
+
+        def take_spare(self) -> Spare | None:
+            """The spare app for a visitor (None if it is not even a process yet); the
+            next one is started NEXT_SPARE_AFTER_S later."""
+            spare, self.spare = self.spare, None
+            if (spare is None or not spare.done() or spare.cancelled()
+                    or spare.exception() is not None):
+                if spare is not None:
+                    spare.add_done_callback(_end_spare)
+                return None
+            if self.next_spare is None and not self.exiting:
+                self.next_spare = asyncio.get_running_loop().call_later(
+                    NEXT_SPARE_AFTER_S, self.start_spare)
+            return spare.result()
 
         async def on_startup(self, app) -> None:
             """Nothing: textual-serve prints its banner here, before the port is bound."""
@@ -135,7 +166,8 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             width = to_int(request.query.get("width", "80"), 80)
             height = to_int(request.query.get("height", "24"), 24)
             await websocket.prepare(request)
-            app = VisitorApp(self.command, websocket, self.download_manager, self.debug)
+            app = VisitorApp(self.command, websocket, self.download_manager, self.debug,
+                             self.take_spare)
             task = asyncio.current_task()
             visits[task] = app
             _log(f"{request.remote} opened the app ({len(visits)} running)")
@@ -156,12 +188,18 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
         async def on_shutdown(self, app) -> None:
             """Ctrl+C or SIGTERM: end every visit now and wait until each one's app has
             exited, so that the server exits after its apps and none is left running."""
+            self.exiting = True  # no new spare from now on
+            if self.next_spare is not None:
+                self.next_spare.cancel()
             visitors = list(visits.values())
             for task, visitor in list(visits.items()):
                 if not visitor.stopping:  # in its start or its messages: to its `finally`
                     task.cancel()
-            if visitors:
-                await asyncio.wait([visitor.stop() for visitor in visitors])
+            ending = [visitor.stop() for visitor in visitors]
+            if self.spare is not None:
+                ending.append(asyncio.ensure_future(_end_spare_task(self.spare)))
+            if ending:
+                await asyncio.wait(ending)
 
         async def handle_index(self, request):
             """The page connects its websocket back to the address the browser used: with
@@ -219,6 +257,20 @@ def run_serve(args) -> int:
     except UnicodeError:  # a name check_host let through that the IDNA codec refuses
         raise UsageError(f"--host {_short(args.host)}: not a host name or address") from None
     return 0
+
+
+def _end_spare(starting) -> None:
+    """A spare started while nobody could take it (it was still being spawned): ended."""
+    if not starting.cancelled() and starting.exception() is None:
+        starting.get_loop().create_task(starting.result().end())
+
+
+async def _end_spare_task(starting) -> None:
+    try:
+        spare = await starting
+    except Exception:  # noqa: BLE001 - no process was started: nothing to end
+        return
+    await spare.end()
 
 
 def _log(text: str) -> None:

@@ -165,8 +165,15 @@ class Chromium:
                                  {"expression": expression, "returnByValue": True})
         return result["result"].get("value")
 
-    async def screenshot(self, path: Path) -> bytes:
-        shot = await self.send("Page.captureScreenshot", {"format": "png"})
+    async def screenshot(self, path: Path, box: tuple[int, int, int, int] | None = None) -> bytes:
+        """A PNG of the page, or of `box` (left, top, right, bottom) in its pixels: a
+        small one is taken faster on a busy machine."""
+        params: dict[str, Any] = {"format": "png", "optimizeForSpeed": True}
+        if box is not None:
+            left, top, right, bottom = box
+            params["clip"] = {"x": left, "y": top, "width": right - left,
+                              "height": bottom - top, "scale": 1}
+        shot = await self.send("Page.captureScreenshot", params)
         data = base64.b64decode(shot["data"])
         path.write_bytes(data)
         return data

@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+SPARE_READY = "the next visitor's app is ready"
 START_S = 180.0  # bounds a failing test: an app's first frame took ~40 s on 2 busy cores
 
 
@@ -22,17 +23,18 @@ def free_port() -> int:
 
 
 async def start_server(tmp_path: Path, *args: str, env: dict | None = None,
-                       keep_output: bool = False):
+                       keep_output: bool = False, until: str = "Ctrl+C"):
     """`cloth-tui serve` in its own process group (as a shell starts a job); returns the
-    process and the lines it printed, up to "Press Ctrl+C". The rest of its output is
+    process and the lines it printed, up to "Press Ctrl+C" (or the line with `until`: its
+    log's SPARE_READY once a visitor's app waits, warmed up). The rest of its output is
     read and dropped, unless `keep_output` (then the caller must read it)."""
     process = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "cloth_tui", "serve", *args,
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
         cwd=tmp_path, env=env, start_new_session=True)
     lines = []
-    while not any("Ctrl+C" in line for line in lines):
-        line = await asyncio.wait_for(process.stdout.readline(), 60)
+    while not any(until in line for line in lines):
+        line = await asyncio.wait_for(process.stdout.readline(), START_S)
         if not line:
             raise AssertionError(f"serve exited {await process.wait()}: {lines}")
         lines.append(line.decode())
