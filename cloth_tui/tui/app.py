@@ -8,11 +8,7 @@ queues stale frames, and it never waits on either thread.
 
 from __future__ import annotations
 
-import asyncio
 import os
-import signal
-import sys
-import threading
 import time
 from collections import deque
 from pathlib import Path
@@ -46,18 +42,13 @@ from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
 from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
+from .process import end_on_signals, run_in_process
 from .status import Readout, StatusBar, cells
 from .textual_adapter import is_select_overlay, set_color_system
 from .view_actions import ViewActions
 
 RICH_COLOR_SYSTEM = {"truecolor": "truecolor", "256": "256", "16": "standard"}
 FREEZE_GC_AFTER_S = 10.0  # start-up is over by then, even without a renderer
-# Signals that end the app as `q` does (video finished, terminal restored); exit 128 + signal.
-ENDING_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
-# After such a signal the captures are saved; if Textual's own shutdown is still stuck this
-# long later (a terminal that stopped reading, e.g. a killed window's, leaves its output queue
-# full forever), the process leaves without it.
-EXIT_GRACE_S = 5.0
 
 
 def default_renderer_factory(**kwargs):
@@ -155,7 +146,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         return self.query_one(Controls)
 
     def on_mount(self) -> None:
-        self._end_on_signals()
+        end_on_signals(self)
         self._compiling.__enter__()  # before either thread starts compiling
         try:
             self.renderer = self.renderer_factory(
@@ -170,22 +161,6 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self._start_sim(paused=self.start_paused or self._start_when_shown)
         self.set_interval(0.2, self._refresh_status)
         self.set_timer(FREEZE_GC_AFTER_S, self._freeze_start_up)  # if no frame comes
-
-    def _end_on_signals(self) -> None:
-        """Without this, SIGTERM/SIGHUP kill the process mid-frame: the video stays
-        `.partial.mp4` and the terminal is left in the alternate screen with the mouse on."""
-        loop = asyncio.get_running_loop()
-        for sig in ENDING_SIGNALS:
-            try:
-                loop.add_signal_handler(sig, self._end_by_signal, sig)
-            except (ValueError, RuntimeError, NotImplementedError):
-                return  # not the main thread's loop: the default behaviour stays
-
-    def _end_by_signal(self, sig: int) -> None:
-        self.shutdown()
-        threading.Thread(target=_leave_after, args=(EXIT_GRACE_S, 128 + int(sig)),
-                         name="exit-watchdog", daemon=True).start()
-        self.exit(return_code=128 + int(sig))
 
     def _start_sim(self, paused: bool) -> None:
         if self.sim is not None:
@@ -289,7 +264,9 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
                 self.sim.submit(lambda sim: sim.reset())
                 self.readout.restart()
                 self._crosshair_placed = False  # back onto the (new) sheet
-        if self.renderer is not None:
+        if self.renderer is not None and (self.sim is None or self.sim.error is not None):
+            # no simulation to carry the scene to the renderer in its next snapshot (it
+            # publishes one after every command, paused too)
             self.renderer.update_scene(new)
         if not shown:
             self.controls.show_scene(new)
@@ -416,42 +393,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self.shutdown()
 
 
-# s: how long a thread holding the GIL keeps it from one that asks. The simulation thread
-# takes the GIL back between its ~40 compiled calls a frame; while the UI thread runs Python
-# (compositing, the preview's strips) each of those waited up to Python's default 5 ms.
-# Measured with a UI-like load (8 ms of Python every 25 ms) beside 40 nogil calls of 0.4 ms:
-# 43.5 simulated frames/s at 5 ms, 51 at 0.5 ms. The app at 256² (4 × 4, tmux 160×48, status
-# line, 16 readings each): median 35 fps at 0.5 ms, 39 at 0.1 ms, and no better at 0.05 ms.
-GIL_SWITCH_INTERVAL_S = 0.0001
-
-
-def _leave_after(seconds: float, code: int) -> None:
-    time.sleep(seconds)
-    os._exit(code)  # only reached if the normal exit hung: see EXIT_GRACE_S
-
-
 def run_app(scene: Scene, captures_dir: Path, *, app_class: type[ClothApp] = ClothApp,
             **kwargs: Any) -> int:
-    """Create the captures folder (exit 2 if impossible), run the app (or a subclass, e.g.
-    the replay app, given its own keyword arguments), return its exit code.
-    An exception that ended the app is raised again here, once the terminal is restored."""
-    captures_dir = Path(captures_dir)
-    try:
-        captures_dir.mkdir(parents=True, exist_ok=True)
-        if not os.access(captures_dir, os.W_OK):
-            raise PermissionError(13, "not writable")
-    except OSError as e:
-        print(escape_controls(f"cloth-tui: error: cannot use captures folder {captures_dir}: "
-                              f"{e.strerror or e}"), file=sys.stderr)
-        return 2
-    kwargs.setdefault("freeze_gc", True)  # process-wide, so only for the real app, not tests
-    app = app_class(scene, captures_dir, **kwargs)
-    interval = sys.getswitchinterval()
-    sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
-    try:
-        app.run()
-    finally:
-        sys.setswitchinterval(interval)
-    if app.crash is not None:
-        raise app.crash  # the terminal is restored: cli.main logs it and prints one line
-    return app.return_code or 0
+    """Run the app (or a subclass, e.g. the replay app, given its own keyword arguments) as
+    process.run_in_process does; return its exit code."""
+    return run_in_process(app_class, scene, captures_dir, **kwargs)

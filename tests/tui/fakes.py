@@ -42,6 +42,7 @@ class FakeRenderService:
 
     def submit(self, snapshot):
         self.snapshot = snapshot
+        self.scene = snapshot.scene  # as the real renderer draws each snapshot's own scene
         self._draw()
 
     def _draw(self):

@@ -40,10 +40,11 @@ def test_panel_controls_change_the_scene(tmp_path):
                 == ["Fabric", "Forces", "Scene", "Behavior", "Appearance"]
             assert app.sim.paused  # commands still run between frames while paused
 
-            # Switch → app scene, sim scene and renderer scene
+            # Switch → app scene, sim scene and renderer scene (in the sim's next snapshot)
             app.query_one("#" + widget_id("forces.wind"), Switch).value = True
             await until(pilot, lambda: sim_scene(app).forces.wind, what="sim scene")
-            assert app.scene.forces.wind and app.renderer.scene.forces.wind
+            await until(pilot, lambda: app.renderer.scene.forces.wind, what="renderer scene")
+            assert app.scene.forces.wind
 
             # Select
             app.query_one("#" + widget_id("behavior.solver"), Select).value = "xpbd"
@@ -66,7 +67,8 @@ def test_panel_controls_change_the_scene(tmp_path):
             await _type_into(pilot, app, "forces.wind_direction", "[1, 0, 0]")
             assert app.scene.forces.wind_direction == [1.0, 0.0, 0.0]
             await _type_into(pilot, app, "appearance.fog_color", "#000000")
-            assert app.renderer.scene.appearance.fog_color == "#000000"
+            await until(pilot, lambda: app.renderer.scene.appearance.fog_color == "#000000",
+                        what="the fog colour in the renderer")
 
             # leaving a field (blur) validates too
             field = app.query_one("#" + widget_id("behavior.iterations"), Input)
@@ -270,7 +272,7 @@ def test_run_app_shortens_the_gil_switch_interval_while_it_runs(tmp_path):
     # the UI thread runs Python; the process's own interval comes back afterwards.
     import sys
 
-    from cloth_tui.tui import app as app_module
+    from cloth_tui.tui import process
 
     seen = []
 
@@ -286,7 +288,7 @@ def test_run_app_shortens_the_gil_switch_interval_while_it_runs(tmp_path):
     before = sys.getswitchinterval()
     assert run_app(Scene(), tmp_path / "caps", app_class=Probe) == 0
     # Python keeps the interval in whole microseconds (0.0001 reads back as 9.999…e-05)
-    assert seen == [pytest.approx(app_module.GIL_SWITCH_INTERVAL_S, abs=1e-6)]
+    assert seen == [pytest.approx(process.GIL_SWITCH_INTERVAL_S, abs=1e-6)]
     assert before > seen[0]
     assert sys.getswitchinterval() == before
 

@@ -40,7 +40,8 @@ def test_objects_are_listed_edited_added_and_removed(tmp_path):
             radius.value = "0.3"
             await pilot.press("enter")
             await until(pilot, lambda: sim_scene(app).objects[0].radius == 0.3, what="edit")
-            assert app.renderer.scene.objects[0].radius == 0.3
+            await until(pilot, lambda: app.renderer.scene.objects[0].radius == 0.3,
+                        what="the edit in the renderer")
             assert app.focused is not radius  # on to the next field
 
             # refused: told, and the last good value comes back

@@ -87,7 +87,7 @@ def test_sighup_from_a_terminal_that_stopped_reading_still_ends_the_app(tmp_path
         require_renderer()
     except RendererUnavailable as e:
         pytest.skip(f"renderer unavailable: {e}")
-    from cloth_tui.tui.app import EXIT_GRACE_S
+    from cloth_tui.tui.process import EXIT_GRACE_S
 
     caps = tmp_path / "caps"
     master, slave = pty.openpty()

@@ -12,7 +12,7 @@ from textual.keys import _character_to_key, _get_unicode_name_from_key
 
 from cloth_tui.scene import Scene
 from cloth_tui.scene_files import load
-from cloth_tui.tui.app import GIL_SWITCH_INTERVAL_S
+from cloth_tui.tui.process import GIL_SWITCH_INTERVAL_S
 from cloth_tui.tui.panels import widget_id
 
 from .conftest import SIZE, make_app, run, sim_scene, until
