@@ -174,13 +174,20 @@ def main(argv: list[str] | None = None) -> int:
     # thread nothing can be set.
     ours = (_on_main_thread() and signal.getsignal(signal.SIGINT) in
             (signal.default_int_handler, end_at_start_up))
+    unraisable_hook = sys.unraisablehook
     try:
         if ours:
             signal.signal(signal.SIGINT, _raise_interrupt)
+            sys.unraisablehook = _interrupt_again(unraisable_hook)
         status = _run(sys.argv[1:] if argv is None else list(argv))
+        if _interrupt_seen:  # raised where a library ignored it, before it came again
+            status = None
     except KeyboardInterrupt:
         status = None
     finally:
+        sys.unraisablehook = unraisable_hook
+        for again in _sent_again:
+            again.cancel()
         if ours and not command_line:
             signal.signal(signal.SIGINT, signal.default_int_handler)
     if ours and command_line:  # a second Ctrl+C while this is said is quiet
@@ -194,6 +201,30 @@ def main(argv: list[str] | None = None) -> int:
 # Set by the SIGINT handler: a library may turn the KeyboardInterrupt into an error of its own
 # (NumPy's import into "Importing the numpy C-extensions failed"), which is Ctrl+C all the same.
 _interrupt_seen = False
+
+
+# The SIGINTs _interrupt_again has yet to send: main's end cancels them.
+_sent_again: list = []
+
+
+def _interrupt_again(hook):
+    """sys.unraisablehook within main's guard: a KeyboardInterrupt that a library's callback
+    cannot raise (llvmlite's, as numba loads a cached kernel: "Exception ignored on calling
+    ctypes callback function", and the work went on) is sent again as SIGINT, for the guard's
+    handler to raise where the work is; anything else goes to `hook`. It is sent from another
+    thread a moment later: sent here, the handler would raise it inside this hook, where it
+    is ignored too. (Landing in a callback again, it comes back here and is sent again.)"""
+    def on_unraisable(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            import signal
+            import threading
+            again = threading.Timer(0.01, os.kill, (os.getpid(), signal.SIGINT))
+            again.daemon = True
+            _sent_again.append(again)
+            again.start()
+            return
+        hook(unraisable)
+    return on_unraisable
 
 
 def _raise_interrupt(_signum, _frame):
