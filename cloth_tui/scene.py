@@ -45,14 +45,6 @@ OBJECT_TYPES = shapes.names()
 CUSTOM_FIELDS = ("none", "black_hole", "anti_gravity", "vortex", "tractor_beam")
 
 
-def _auto_integrators() -> str:
-    """"verlet for hpbd/pbd/xpbd, implicit_euler for springs": what `auto` means, by solver."""
-    by_integrator: dict[str, list[str]] = {}
-    for n in SOLVERS:
-        by_integrator.setdefault(solver_registry.spec(n).integrators[0], []).append(n)
-    return ", ".join(f"{i} for {'/'.join(ns)}" for i, ns in by_integrator.items())
-
-
 @dataclass
 class Cloth:
     size: float | list = key(1.0, "the sheet: a number is the side of a square, [width, "
@@ -185,7 +177,8 @@ class Behavior:
                       ", ".join(solver_registry.spec(n).summary for n in sorted(
                           SOLVERS, key=lambda n: n != solver_registry.DEFAULT)),
                       choices=SOLVERS)
-    integrator: str = key("auto", "time integrator; auto: each solver's own (" + _auto_integrators()
+    integrator: str = key("auto", "time integrator; auto: each solver's own ("
+                          + solver_registry.auto_integrators()
                           + "; lbfgs: bdf2 where energy_tolerance is set); a solver refuses one "
                           "it does not run", choices=INTEGRATORS)
     compliance: float = key(1e-8, "xpbd compliance (inverse stiffness)", unit="m/N", lo=0.0,

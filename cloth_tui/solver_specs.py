@@ -100,6 +100,15 @@ def integrator_for(behavior) -> str:
     return spec(behavior.solver).integrators[0]
 
 
+def auto_integrators() -> str:
+    """"verlet for hpbd/pbd/xpbd, implicit_euler for springs": what behavior.integrator =
+    "auto" means, by solver."""
+    by_integrator: dict[str, list[str]] = {}
+    for n in names():
+        by_integrator.setdefault(spec(n).integrators[0], []).append(n)
+    return ", ".join(f"{i} for {'/'.join(ns)}" for i, ns in by_integrator.items())
+
+
 def reference() -> str:
     """The reference solver's name (SolverSpec.reference)."""
     return next(n for n, s in _SPECS.items() if s.reference)
