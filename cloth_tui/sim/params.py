@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable
 
 from ..materials.schema import Material
@@ -35,47 +35,33 @@ def _irrelevant(value: Any) -> None:
     return None
 
 
-# Each parameter key, and what of its value decides whether the step has its stage.
-PARAMETER_KEYS: dict[str, Callable[[Any], Any]] = {
-    "forces.gravity_strength": _positive,
-    "forces.wind_strength": _positive,
-    "forces.wind_direction": _irrelevant,
-    "forces.wind_mode": _irrelevant,
-    "forces.custom_strength": _positive,
-    "forces.custom_rate": _irrelevant,
-    "forces.rain_strength": _positive,
-    "forces.rain_rate": _positive,
-    "scene.friction": _irrelevant,
-    "behavior.damping": _irrelevant,
-    "behavior.compliance": _irrelevant,
-    "behavior.iterations": _irrelevant,
-    "behavior.max_speed": _irrelevant,
-    "behavior.stiffness": _irrelevant,
-    "behavior.spring_damping": _irrelevant,
-    "cloth.mass": _irrelevant,  # the model's masses, written in place (model.refitted)
-}
+def _param(key: str, default: Any, stage: Callable[[Any], Any] = _irrelevant):
+    """A StepParams field that takes scene key `key`; `stage`: what of its value decides
+    whether the step has the stage that reads it (nothing, for most)."""
+    return field(default=default, metadata={"key": key, "stage": stage})
 
 
 @dataclass
 class StepParams:
     """What the stages read each substep. Assigned only between frames, on the thread that
     steps (the simulation's), so a substep never sees half a change. The defaults are the
-    schema's (the original scene's; a test holds them to it)."""
-    gravity: float = 9.81           # m/s², downward (forces.gravity_strength)
-    wind_speed: float = 5.0         # m/s (forces.wind_strength)
-    wind_direction: tuple = (0.0, 0.0, 1.0)  # unit vector the air moves along
-    wind_mode: str = "constant"
-    custom_strength: float = 10.0   # m/s²
-    custom_rate: float = 0.5        # Hz
-    rain_strength: float = 0.01     # m
-    rain_rate: float = 20.0         # drops/s
-    friction: float = 0.9           # μs of the floor and of objects without their own
-    damping: float = 0.03           # share of velocity lost per 18 ms (behavior.damping)
-    compliance: float = 1e-8        # m/N, xpbd without a material
-    iterations: int = 4             # constraint passes per substep
-    max_speed: float = 50.0         # m/s
-    stiffness: float = 2000.0       # N/m, springs
-    spring_damping: float = 0.5     # N·s/m, springs
+    schema's, Scene()'s (a test holds them to it). Each field names the one scene key it
+    takes."""
+    gravity: float = _param("forces.gravity_strength", 9.81, _positive)  # m/s², downward (−y)
+    wind_speed: float = _param("forces.wind_strength", 5.0, _positive)  # m/s
+    wind_direction: tuple = _param("forces.wind_direction", (0.0, 0.0, 1.0))  # unit vector
+    wind_mode: str = _param("forces.wind_mode", "constant")
+    custom_strength: float = _param("forces.custom_strength", 10.0, _positive)  # m/s²
+    custom_rate: float = _param("forces.custom_rate", 0.5)  # Hz
+    rain_strength: float = _param("forces.rain_strength", 0.01, _positive)  # m
+    rain_rate: float = _param("forces.rain_rate", 20.0, _positive)  # drops/s
+    friction: float = _param("scene.friction", 0.9)  # μs of the floor, objects without their own
+    damping: float = _param("behavior.damping", 0.03)  # share of velocity lost per 18 ms
+    compliance: float = _param("behavior.compliance", 1e-8)  # m/N, xpbd without a material
+    iterations: int = _param("behavior.iterations", 4)  # constraint passes per substep
+    max_speed: float = _param("behavior.max_speed", 50.0)  # m/s
+    stiffness: float = _param("behavior.stiffness", 2000.0)  # N/m, springs
+    spring_damping: float = _param("behavior.spring_damping", 0.5)  # N·s/m, springs
     material: Material | None = None  # the fabric's numbers (damping, α), None: none
     object_friction: tuple = ()     # each [[objects]] entry's own μs, −1: the scene's
 
@@ -92,6 +78,18 @@ class StepParams:
             setattr(self, name, value)
 
 
+_KEYED = [(f.name, f.metadata["key"]) for f in dataclasses.fields(StepParams)
+          if "key" in f.metadata]
+
+# Each parameter key, and what of its value decides whether the step has its stage: the
+# StepParams fields' keys, and the masses, which the model holds (model.refitted).
+PARAMETER_KEYS: dict[str, Callable[[Any], Any]] = {
+    **{f.metadata["key"]: f.metadata["stage"] for f in dataclasses.fields(StepParams)
+       if "key" in f.metadata},
+    "cloth.mass": _irrelevant,  # the model's masses, written in place (model.refitted)
+}
+
+
 def unit(direction) -> tuple:
     x, y, z = (float(v) for v in direction)
     n = math.sqrt(x * x + y * y + z * z)
@@ -99,16 +97,11 @@ def unit(direction) -> tuple:
 
 
 def _values(scene: Scene) -> dict[str, Any]:
-    f, b = scene.forces, scene.behavior
-    return dict(gravity=f.gravity_strength, wind_speed=f.wind_strength,
-                wind_direction=unit(f.wind_direction), wind_mode=f.wind_mode,
-                custom_strength=f.custom_strength, custom_rate=f.custom_rate,
-                rain_strength=f.rain_strength, rain_rate=f.rain_rate,
-                friction=scene.scene.friction, damping=b.damping, compliance=b.compliance,
-                iterations=b.iterations, max_speed=b.max_speed, stiffness=b.stiffness,
-                spring_damping=b.spring_damping,
-                material=None if scene.material is None else scene.material.material,
-                object_friction=tuple(o.friction for o in scene.objects))
+    values = {name: scene.get(key) for name, key in _KEYED}
+    values["wind_direction"] = unit(values["wind_direction"])
+    values["material"] = None if scene.material is None else scene.material.material
+    values["object_friction"] = tuple(o.friction for o in scene.objects)
+    return values
 
 
 @dataclass(frozen=True)
