@@ -150,6 +150,7 @@ def test_ctrl_c_from_outside_as_a_library_loads(tmp_path, library):
 
 
 PACKAGE_FRAME = re.compile(r'File "' + re.escape(os.path.dirname(cloth_tui.__file__)))
+COMPILE_NOTICE = re.compile(r"cloth-tui: (compiling kernels|\d+ kernels compiled)")
 
 
 @pytest.mark.parametrize("args", [["--help"], ["scenes"],
@@ -167,6 +168,9 @@ def test_ctrl_c_at_any_delay_after_the_start_is_130_and_one_line(tmp_path, args)
         time.sleep(delay)
         child.send_signal(signal.SIGINT)
         _, err = child.communicate(timeout=120)
+        # a cold numba cache's compile notice comes before the interruption, not from it
+        err = "".join(line for line in err.splitlines(keepends=True)
+                      if not COMPILE_NOTICE.match(line))
         answer = (child.returncode, err)
         # (killed by SIGINT, -2 here, the shell reports as 130 too; seen rarely after the line)
         if answer in ((0, ""), (130, "cloth-tui: interrupted\n"), (-signal.SIGINT, ""),
