@@ -77,7 +77,7 @@ class OrbitCamera:
         offset = distance * np.array([math.cos(el) * math.sin(az), math.sin(el),
                                       math.cos(el) * math.cos(az)])
         # VTK's own setters: PyVista's position setter also resets the clipping range from
-        # every actor's bounds (~1 ms a frame), which the line below sets anyway.
+        # every actor's bounds, a cost each frame for what the line below sets anyway.
         cam.SetFocalPoint(*self.target)
         cam.SetPosition(*(self.target + offset))
         cam.SetViewUp(0.0, 1.0, 0.0)
