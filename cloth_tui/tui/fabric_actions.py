@@ -30,15 +30,17 @@ def describe_preset(name: str) -> str:
 
 
 def names_own_fabric(scene_name: str) -> bool:
-    """Whether the built-in scene's file says which fabric it has (a [material] table, or
-    material = "original"): loading gives no material either way when it says original."""
+    """Whether the built-in scene's file names a fabric of its own (a [material] table or a
+    preset). `material = "original"` names none: it says the scene needs no fabric (and
+    why, in its comment), so a fabric the user chose is kept there."""
     path = builtin_scenes().get(scene_name)
     if path is None:
         return False
     try:
-        return NAME in tomllib.loads(path.read_text("utf-8"))
+        own = tomllib.loads(path.read_text("utf-8")).get(NAME)
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return False
+    return own is not None and own != ORIGINAL
 
 
 class FabricActions:

@@ -39,7 +39,7 @@ def test_a_frame_does_not_search_the_actors_for_a_clipping_range(renderer, monke
     renderer.render(snap)
     assert resets == []
     near, far = renderer.plotter.camera.GetClippingRange()
-    assert 0 < near < renderer.view_distance() < far
+    assert 0 < near < renderer.camera.view_distance(renderer.size) < far
 
 
 def test_antialias_reads_a_flipped_view_as_its_copy():

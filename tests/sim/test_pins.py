@@ -103,7 +103,7 @@ def test_a_group_that_moves_a_pattern_pin_says_to_leave_the_pattern_out():
 
 def test_the_command_line_refuses_conflicting_groups_with_exit_2(capsys):
     from cloth_tui.cli import main
-    code = main(["simulate", "default", "--frames", "1", "--set",
+    code = main(["simulate", "original", "--frames", "1", "--set",
                  "pins=[{at=[[0,0]], offset=[0.1,0,0]}]"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "\n" not in err and "both hold particle [0, 0]" in err
