@@ -45,9 +45,11 @@ def red_share(png: bytes, box: tuple[int, int, int, int]) -> float:
 
 
 PREVIEW = (0, 0, 1000, 800)  # the preview's pixels in a 1600×1000 page
-# s from opening the page until two screenshots 1 s apart differ (issue 38's browser test):
-# the sheet falls from when the first picture is shown, and a waiting spare app draws it at once
-FIRST_MOTION_S = 10.0
+# s from opening the page until two screenshots 1 s apart differ: the sheet falls from when
+# the first picture is shown (a sheet that never starts fails at any bound). How soon that is
+# (a waiting spare app draws in a few seconds) is a speed, measured in docs/app.md, not
+# asserted here: a loaded test machine takes seconds per screenshot.
+FIRST_MOTION_S = 30.0
 PICTURE = 2000  # half-block cells received once the preview's picture is drawn
 
 
