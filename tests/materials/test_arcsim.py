@@ -10,7 +10,7 @@ import pytest
 from cloth_tui.materials.presets import load_presets
 from cloth_tui.sim.fabric.bending import bending_energy, bending_stencils
 from cloth_tui.sim.grid import Grid
-from ..sim.bent_sheets import cylinder, hinge_sum
+from ..sim.fabric.bent_sheets import cylinder, hinge_sum
 
 WANG = [p for p in load_presets().values() if p.arcsim_stretching and not p.alias_of]
 

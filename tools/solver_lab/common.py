@@ -24,7 +24,7 @@ LINEAR = {
 
 def clipped_sheet(cells: int, preset: str = "denim", solver: str = "xpbd", substeps: int = 4,
                   iterations: int = 4, adaptive: bool = False, damping: float = 5.0) -> Scene:
-    """tests/sim/test_fabric_resolution.py's sheet: 1 m, two clips of 1/16 m on one edge."""
+    """tests/sim/fabric/test_fabric_resolution.py's sheet: 1 m, two clips of 1/16 m on one edge."""
     clip = max(1, cells // 16)
     return Scene().with_values({
         "cloth.size": 1.0, "cloth.resolution": cells + 1, "cloth.pinned": "none",

@@ -16,7 +16,7 @@ A stencil's weight is the area whose curvature it stands for: its particle's dua
 for a stencil next to a border also the half-cell strip beyond it, which has no stencil of
 its own; so a uniform curvature's energy is exact up to the border. A clamp therefore holds
 three columns, not two: the hinge at its edge must not be a border stencil (measured in
-tests/sim/test_bending_cantilever.py).
+tests/sim/fabric/test_bending_cantilever.py).
 
 Pure numpy: fabric/build.py builds a material's stencils, which the solvers project.
 """

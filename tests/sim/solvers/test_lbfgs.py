@@ -10,8 +10,8 @@ import pytest
 from cloth_tui.scene import Scene
 from cloth_tui.sim.run.runner import Simulation
 
-from ..test_fabric_resolution import centre_height, clipped_sheet
-from ..test_tearing_by_strength import FRAME, first_tear, pulled_strip
+from ..fabric.clipped_sheets import centre_height, clipped_sheet
+from ..effects.pulled_strips import FRAME, first_tear, pulled_strip
 
 CELLS = 16
 # denim's numbers typed out (a typed stretch is linear), so both solvers minimise one energy

@@ -85,7 +85,7 @@ def test_without_an_energy_tolerance_the_step_is_implicit_euler_at_the_scenes_su
 def test_at_the_default_scenes_settings_a_32_cell_sheet_hangs_within_1_percent():
     """1 substep of 2 iterations, adaptive at the default tolerance, against 4 substeps of
     20 (measured after 4 s: +0.31 % at 32 cells, +0.14 % at 16)."""
-    from ..test_fabric_resolution import centre_height, clipped_sheet
+    from ..fabric.clipped_sheets import centre_height, clipped_sheet
     from .test_lbfgs import DENIM
 
     def sag(substeps: int, iterations: int, adaptive: bool) -> float:

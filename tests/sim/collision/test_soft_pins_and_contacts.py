@@ -9,7 +9,7 @@ from cloth_tui.scene_files import apply_overrides
 from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 
 class ContactsLast(Simulation):

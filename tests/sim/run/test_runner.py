@@ -11,7 +11,7 @@ from cloth_tui.sim.run import sim_thread
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.run.sim_thread import SimulationThread
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 
 # --- adaptive substeps ---------------------------------------------------------------------

@@ -11,7 +11,7 @@ from cloth_tui.sim.effects import tearing
 from cloth_tui.sim.grid import Grid
 from cloth_tui.sim.run.runner import Simulation
 
-from .test_tearing_by_strength import FRAME, first_tear, pulled_strip
+from .pulled_strips import FRAME, first_tear, pulled_strip
 
 SPEED = 0.02  # m/s the far edge is pulled at
 

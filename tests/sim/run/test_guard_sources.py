@@ -7,7 +7,7 @@ import pytest
 
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 
 @pytest.mark.parametrize("integrator", ["implicit_euler", "rk4"])

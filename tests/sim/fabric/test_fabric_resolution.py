@@ -7,35 +7,14 @@ depending on the grid, and the sag with it). The drag (`damping`, 5/s) only take
 motion out: it acts on velocities and changes no equilibrium. A settled sheet is checked
 to be settled (its sag no longer moving) before it is compared."""
 
-import numpy as np
 import pytest
 
-from cloth_tui.scene import Scene
 from cloth_tui.sim.run.runner import Simulation
 
-PRESET = "denim"
+from .clipped_sheets import centre_height, clipped_sheet
+
 SETTLE_S = 3.0
 CHECK_S = 0.5  # over the last half second the sag may move by 0.3 % at most
-
-
-def clipped_sheet(cells: int, substeps: int, iterations: int) -> Scene:
-    clip = cells // 16  # cells of edge each clip holds
-    return Scene().with_values({
-        "cloth.size": 1.0, "cloth.resolution": cells + 1, "cloth.pinned": "none",
-        "cloth.height": 1.0, "scene.floor": False, "behavior.solver": "xpbd",
-        "behavior.adaptive": False, "behavior.substeps": substeps,
-        "behavior.iterations": iterations,
-        "material": {"preset": PRESET, "damping": 5.0},
-        "pins": [{"rows": [0, 0], "cols": [0, clip]},
-                 {"rows": [0, 0], "cols": [-1 - clip, -1]}]})
-
-
-def centre_height(sim) -> float:
-    """y of the sheet's centre (between the middle particles on an even grid)."""
-    m = sim.model
-    x = sim.state.x.reshape(m.nz, m.nx, 3)
-    rows, cols = sorted({(m.nz - 1) // 2, m.nz // 2}), sorted({(m.nx - 1) // 2, m.nx // 2})
-    return float(x[np.ix_(rows, cols)][..., 1].mean())
 
 
 def settled_sag(cells: int, substeps: int = 40, iterations: int = 5) -> float:

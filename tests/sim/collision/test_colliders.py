@@ -10,7 +10,7 @@ from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.collision.shapes import shape_of
-from .helpers import run, scene
+from ..helpers import run, scene
 
 
 def shape_collider(m, kind, center=(0.0, 0.0, 0.0), *, friction=0.9, thickness=0.005,

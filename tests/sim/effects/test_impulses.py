@@ -9,7 +9,7 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.params import StepParams
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
-from .helpers import scene
+from ..helpers import scene
 
 
 def rainy(**overrides):

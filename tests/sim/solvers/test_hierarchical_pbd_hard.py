@@ -7,7 +7,7 @@ import pytest
 
 from cloth_tui.scene import PIN_MODES
 
-from .hardcase import run_hard
+from ..hardcase import run_hard
 
 HPBD = {"behavior.solver": "hpbd"}
 

@@ -14,7 +14,7 @@ from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.state import ClothState
 from cloth_tui.sim.solvers.xpbd.constraints import ProjectConstraints
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 N = 24
 FRAMES = 150

@@ -5,7 +5,7 @@ import pytest
 
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import scene
+from ..helpers import scene
 
 SWING = dict(behavior__damping=0.0, cloth__pinned="one_edge", cloth__resolution=12,
              scene__floor=False)

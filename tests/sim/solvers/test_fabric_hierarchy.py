@@ -9,8 +9,8 @@ from cloth_tui.scene import Scene
 from cloth_tui.sim.solvers.hpbd.multiplier_levels import DualHierarchy, edge_aggregates
 from cloth_tui.sim.run.runner import Simulation
 
-from .test_fabric_resolution import centre_height, clipped_sheet
-from .test_tearing_by_strength import FRAME, first_tear, pulled_strip
+from ..fabric.clipped_sheets import centre_height, clipped_sheet
+from ..effects.pulled_strips import FRAME, first_tear, pulled_strip
 
 
 def material_model(resolution, solver="hpbd", size=1.0):

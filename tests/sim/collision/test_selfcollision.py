@@ -9,7 +9,7 @@ import pytest
 from cloth_tui.sim.collision import selfcollision
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.run.runner import Simulation
-from .helpers import scene
+from ..helpers import scene
 
 
 def model(n, **overrides):

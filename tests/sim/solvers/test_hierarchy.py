@@ -8,7 +8,7 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.effects.tearing import cut_between
 from cloth_tui.sim.state import ClothState
 
-from .helpers import scene
+from ..helpers import scene
 
 
 def model_of(**overrides):

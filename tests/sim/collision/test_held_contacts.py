@@ -13,7 +13,7 @@ from cloth_tui.sim.collision.held_contacts import check_start, held_inputs_diffe
 from cloth_tui.sim.model import pinned_indices
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import scene
+from ..helpers import scene
 
 N = 6
 PINS = ["corners", "one_edge", "two_edges", "four_edges"]

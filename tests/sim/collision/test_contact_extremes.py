@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from cloth_tui.scene import SceneObject
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 SLACK = 0.01  # m beyond scene.thickness, as the fuzzer allows
 

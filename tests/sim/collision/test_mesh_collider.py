@@ -11,7 +11,7 @@ from cloth_tui.sim import pipeline  # noqa: E402
 from cloth_tui.sim.collision.colliders import ShapeCollider  # noqa: E402
 from cloth_tui.sim.run.runner import Simulation  # noqa: E402
 
-from .helpers import run, scene  # noqa: E402
+from ..helpers import run, scene  # noqa: E402
 
 RING, TUBE = 0.25, 0.08  # torus radii, m
 THICKNESS = 0.005

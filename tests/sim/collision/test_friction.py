@@ -9,7 +9,7 @@ import pytest
 
 from cloth_tui.scene_files import load
 from cloth_tui.sim.run.runner import Simulation
-from .helpers import run
+from ..helpers import run
 
 
 def settled(name, seconds=10.0, **keys):

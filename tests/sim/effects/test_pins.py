@@ -12,7 +12,7 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.effects.pins import group_particles, track_times
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 N = 8
 

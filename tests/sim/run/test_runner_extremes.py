@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import run, scene
+from ..helpers import run, scene
 
 
 def log_uniform(lo: float, hi: float):

@@ -6,7 +6,7 @@ import pytest
 
 from cloth_tui.sim.run.runner import Simulation
 
-from .helpers import scene
+from ..helpers import scene
 
 
 def diverge(sim: Simulation) -> None:
