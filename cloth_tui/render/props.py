@@ -1,6 +1,6 @@
-"""The still parts of the picture: ground, corner poles and collision objects. Each is built
-once and changed in place (points, position, colours), so a long session never piles up
-actors. Runs only on the render thread, like everything that touches VTK."""
+"""The still parts of the picture: ground, the poles under held corners and collision
+objects. Each is built once and changed in place (points, position, colours), so a long
+session never piles up actors. Runs only on the render thread, like everything that touches VTK."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import numpy as np
 
 from ..sim.collision.shapes import shape_of
 from .geometry import AMBIENT, GROUND_DIFFUSE, flat_ground_light, fog_factor, hex_rgb
+from .pin_markers import held_particles
 
 GROUND_RADIUS = 14.0  # m: far enough that fog hides the edge
 FOG_NEAR, FOG_FAR = 2.0, 11.0  # m from the centre: the original's fog, scaled to its camera
@@ -179,7 +180,9 @@ def grid_lines(pv, half: float, step: float):
 
 
 class Poles:
-    """The original's four poles at the sheet's corners, from the floor up to the sheet."""
+    """The original's poles, from the floor up to each corner of the sheet that a pin holds
+    at the start (all four in the original; the two clipped corners of a hanging sheet): a
+    pole under a corner that hangs free would hold nothing."""
 
     def __init__(self, pv, plotter):
         self.pv = pv
@@ -192,26 +195,39 @@ class Poles:
         # flat sides: ~2 ms at 882×696)
         self.actor.prop.interpolation = "phong"
         self.actor.prop.culling = "back"  # closed solids: their insides never show
+        self.actor.SetVisibility(False)
         self.key = None
 
-    def update(self, scene) -> None:
-        c, s = scene.cloth, scene.scene
-        width, length = c.dimensions()
-        key = (width, length, c.height, s.floor_height, s.floor)
+    def update(self, scene, model) -> None:
+        s = scene.scene
+        tops = np.asarray(model.rest_positions)[list(held_corners(model))]
+        extent = max(scene.cloth.dimensions())
+        key = (tops.tobytes(), extent, s.floor_height, s.floor)
         if key == self.key:
             return
         self.key = key
-        extent = max(width, length)
-        top, bottom = c.height, s.floor_height if s.floor else c.height - 0.75 * extent
-        if top - bottom <= 1e-6:
+        r = max(0.006, 0.008 * extent)
+        poles = []
+        for x, top, z in tops:
+            bottom = s.floor_height if s.floor else top - 0.75 * extent
+            if top - bottom > 1e-6:
+                poles.append(self.pv.Cylinder(center=(x, 0.5 * (top + bottom), z),
+                                              direction=(0, 1, 0), radius=r,
+                                              height=top - bottom, resolution=POLE_SIDES))
+        if not poles:
             self.actor.SetVisibility(False)
             return
-        r = max(0.006, 0.008 * extent)
-        poles = [self.pv.Cylinder(center=(x, 0.5 * (top + bottom), z), direction=(0, 1, 0),
-                                  radius=r, height=top - bottom, resolution=POLE_SIDES)
-                 for x in (-width / 2, width / 2) for z in (-length / 2, length / 2)]
-        self.mesh.copy_from(poles[0].append_polydata(*poles[1:]))
+        self.mesh.copy_from(poles[0].append_polydata(*poles[1:]) if len(poles) > 1
+                            else poles[0])
         self.actor.SetVisibility(True)
+
+
+def held_corners(model) -> tuple[int, ...]:
+    """The particles at the sheet's four corners that a pin holds (hard or soft)."""
+    nx, nz = model.nx, model.nz
+    corners = sorted({0, nx - 1, (nz - 1) * nx, nz * nx - 1})
+    held = set(held_particles(model).tolist())
+    return tuple(i for i in corners if i in held)
 
 
 class Objects:

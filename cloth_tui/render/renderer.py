@@ -1,6 +1,6 @@
 """One off-screen PyVista plotter, kept for the renderer's whole life, drawing snapshots of
 the cloth in the original's look: red sheet above a bluish ground fading into light-blue fog,
-four corner poles, translucent objects.
+poles under the held corners, translucent objects.
 
 Not thread-safe and bound to its creating thread (VTK's GL context is): in the app only the
 render service's thread uses it. `pick` and `screen_delta_to_world` are the exceptions: they
@@ -87,7 +87,7 @@ class Renderer:
 
     # -- settings -------------------------------------------------------------------------
     def update_scene(self, scene) -> None:
-        """Apply appearance, floor and pole settings; cheap when nothing changed."""
+        """Apply appearance and floor settings; cheap when nothing changed."""
         self._scene = scene
         a, s, c = scene.appearance, scene.scene, scene.cloth
         key = (tuple(vars(a).items()), s.floor, s.floor_height, c.extent(), c.height)
@@ -97,7 +97,6 @@ class Renderer:
         self.plotter.set_background(a.fog_color)
         self.ground.update(scene, self.textures.image(a.ground_texture))
         self.shadow.update_scene(scene, self.ground.textured)
-        self.poles.update(scene)
         if self.cloth_actor is not None:
             self._style_cloth()
         if self.lines_actor is not None:
@@ -309,6 +308,7 @@ class Renderer:
         if snapshot.model is not self._model:
             self._build_cloth(snapshot.model, positions)
         self._set_faces(snapshot)
+        self.poles.update(self._scene, snapshot.model)
         self._update_cloth(positions)
         self._positions = positions
         self.objects.update(snapshot.objects)

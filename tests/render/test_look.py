@@ -6,22 +6,7 @@ import numpy as np
 from cloth_tui.render.antialias import antialias
 from cloth_tui.render.renderer import BACK_SHADE
 
-from .helpers import draped, red_pixels, scene_with, with_positions
-
-
-def fresh(renderer, snap, size=(320, 240), elevation=None):
-    renderer.resize(*size)
-    renderer.update_scene(snap.scene)
-    renderer.reset_camera()
-    if elevation is not None:
-        renderer.orbit(0.0, elevation - renderer.camera.elevation)
-    return renderer.render(snap)
-
-
-def cloth_red(img):
-    r, g, b = (img[..., k].astype(float) for k in range(3))
-    mask = (r > 2 * g) & (r > 2 * b) & (r > 40)
-    return mask, r[mask]
+from .helpers import cloth_red, draped, fresh, red_pixels, scene_with, with_positions
 
 
 def test_each_side_is_lit_by_the_lights_on_its_side_and_the_underside_is_darker(renderer):
@@ -166,7 +151,30 @@ def test_the_poles_are_smooth_closed_solids_of_few_sides(renderer):
             & (img[..., 0] > 120))
     columns = np.flatnonzero(grey[120:200].any(axis=0))
     assert len(np.split(columns, np.flatnonzero(np.diff(columns) > 3) + 1)) == 4  # all four
-    renderer.update_scene(snap.scene.with_value("cloth.size", 2.0))  # what is drawn moves
+    fresh(renderer, draped(snap.scene.with_value("cloth.size", 2.0)))  # what is drawn moves
     x0, x1 = poles.actor.mapper.GetInput().GetBounds()[:2]
     assert x1 - x0 > 2.0
     renderer.update_scene(snap.scene)
+
+
+def test_poles_stand_only_under_the_corners_a_pin_holds(renderer):
+    """The default scene hangs from two clips at the corners of one edge: two poles, under
+    those corners; a sheet held by no corner has none."""
+    from cloth_tui.render.props import POLE_SIDES
+    from cloth_tui.scene_files import load
+
+    from cloth_tui.sim.run.runner import Simulation
+
+    scene = load("default").with_value("appearance.wireframe", False)
+    snap = Simulation(scene).snapshot()  # (draped's model has no [[pins]])
+    fresh(renderer, snap)
+    poles = renderer.poles
+    assert poles.actor.GetVisibility() and poles.mesh.n_cells == 2 * (POLE_SIDES + 2)
+    held = snap.model.rest_positions[[0, snap.model.nx - 1]]
+    x0, x1, _, y1, z0, z1 = poles.mesh.bounds
+    assert np.allclose([x0, x1], [held[:, 0].min(), held[:, 0].max()], atol=0.02)
+    assert np.allclose([z0, z1], held[0, 2], atol=0.02) and np.isclose(y1, held[0, 1])
+    middle = scene.with_values({"pins": [{"rows": [5, 5], "cols": [5, 10]}]})
+    fresh(renderer, Simulation(middle).snapshot())
+    assert not poles.actor.GetVisibility()
+    renderer.update_scene(scene_with())
