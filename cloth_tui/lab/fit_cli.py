@@ -40,9 +40,11 @@ def add_fit_arguments(parser) -> None:
     g.add_argument("--drape-resolution", metavar="N",
                    help="particles across the drape test's disc (default 25)")
     g.add_argument("-o", "--output", metavar="FILE.toml",
-                   help="write the [material] (a scene file of the default scene with it)")
+                   help="write the default scene (1 m hanging from two clips) with the "
+                        "fabric as its [material]")
     g.add_argument("--scene", metavar="SCENE",
-                   help="with -o: write this scene (file or built-in name) with the fabric")
+                   help="with -o: write this scene (file or built-in name) with the fabric "
+                        "instead")
 
 
 def refuse_fit_flags(args) -> None:
@@ -98,9 +100,10 @@ def _inputs(args):
     if output is not None:
         check_output_path(output, (".toml",))
     scene = None
-    if args.scene is not None:
+    if output is not None:
         from ..scene_files import load
-        scene = load(args.scene)  # a SceneError is the user's: one line, exit 2
+        # a SceneError is the user's: one line, exit 2
+        scene = load(args.scene if args.scene is not None else "default")
     return m, solver, resolution, output, scene
 
 

@@ -99,7 +99,9 @@ def test_lab_fit_writes_a_material_whose_peirce_test_gives_back_the_length(tmp_p
                  "--extension", "5 % at 10 N/5 cm", "-o", str(out), "--json"]) == 0
     captured = capsys.readouterr()
     r = json.loads(captured.out)
-    written = load(out).material.material     # the file is a scene: its [material]
+    scene = load(out)  # the default scene (its two clips, its solver) with the fabric
+    assert len(scene.pins) == 2 and scene.behavior.solver == load("default").behavior.solver
+    written = scene.material.material
     assert written.bending == pytest.approx(0.25 * G * 0.024 ** 3, rel=1e-5)
     assert (written.stretch_warp, written.stretch_weft) == (4000.0, 4000.0)
     assert written.areal_density == 0.25
