@@ -1,5 +1,6 @@
 """Deterministic snapshots for render tests: an analytic drape instead of a simulation, so
-images (and golden baselines) depend on the renderer only, not on physics changes."""
+images (and golden baselines) depend on the renderer only, not on physics changes; and the
+small helpers that draw them and read the cloth's red back."""
 
 from __future__ import annotations
 
@@ -42,3 +43,20 @@ SPHERE = ObjectPose("sphere", {"radius": 0.25}, (0.0, -0.25, 0.0))
 def red_pixels(img: np.ndarray) -> int:
     r, g, b = (img[..., k].astype(int) for k in range(3))
     return int(((r > 110) & (r > 2 * g) & (r > 2 * b)).sum())
+
+
+def fresh(renderer, snap, size=(320, 240), elevation=None):
+    """`snap` drawn by `renderer` at `size` from its home view (at `elevation`, degrees)."""
+    renderer.resize(*size)
+    renderer.update_scene(snap.scene)
+    renderer.reset_camera()
+    if elevation is not None:
+        renderer.orbit(0.0, elevation - renderer.camera.elevation)
+    return renderer.render(snap)
+
+
+def cloth_red(img):
+    """Where `img` shows the red cloth, and the red channel there."""
+    r, g, b = (img[..., k].astype(float) for k in range(3))
+    mask = (r > 2 * g) & (r > 2 * b) & (r > 40)
+    return mask, r[mask]

@@ -6,6 +6,8 @@ import pytest
 from cloth_tui.render.capture import (CaptureError, PreviewFile, VideoWriter, ensure_folder,
                                       fit_frame, save_png)
 
+from .service_helpers import count_frames
+
 
 def frames(n, w, h):
     """Frames that differ (a moving bar), so no encoder merges them."""
@@ -13,12 +15,6 @@ def frames(n, w, h):
         img = np.full((h, w, 3), 40, np.uint8)
         img[:, (k * 3) % w] = 250
         yield img
-
-
-def count_frames(path):
-    import imageio.v2 as iio
-    with iio.get_reader(str(path)) as reader:
-        return sum(1 for _ in reader)
 
 
 def test_png_is_written_atomically(tmp_path):

@@ -9,7 +9,7 @@ import pytest
 
 from cloth_tui.cli import main
 
-from .test_capture import count_frames
+from .service_helpers import count_frames
 
 
 def test_png_of_any_size(tmp_path):

@@ -5,7 +5,7 @@ import pytest
 
 from cloth_tui.cli import main
 
-from .test_capture import count_frames
+from .service_helpers import count_frames
 
 pytest.importorskip("pxr")
 

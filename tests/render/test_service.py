@@ -1,35 +1,12 @@
-import queue
-import threading
 import time
 
 import numpy as np
 import pytest
 
-from cloth_tui.render.service import CaptureEvent, CaptureKind, Frame, RenderService
+from cloth_tui.render.service import CaptureKind, RenderService
 
 from .helpers import draped, scene_with
-from .test_capture import count_frames
-
-
-class Collector:
-    def __init__(self):
-        self.frames: queue.Queue[Frame] = queue.Queue()
-        self.events: queue.Queue[CaptureEvent] = queue.Queue()
-        self.threads: set[str] = set()
-
-    def on_frame(self, frame):
-        self.threads.add(threading.current_thread().name)
-        self.frames.put(frame)
-
-    def on_event(self, event):
-        self.events.put(event)
-
-    def event(self, kind, timeout=20):
-        while True:
-            e = self.events.get(timeout=timeout)
-            if e.kind == kind:
-                return e
-            assert e.kind != CaptureKind.ERROR, e.message
+from .service_helpers import Collector, count_frames
 
 
 @pytest.fixture

@@ -9,8 +9,7 @@ from cloth_tui.render.service import CaptureKind, RenderService
 
 from . import pngs
 from .helpers import draped, scene_with
-from .test_capture import count_frames
-from .test_service import Collector
+from .service_helpers import Collector, count_frames
 
 
 @pytest.fixture

@@ -58,7 +58,7 @@ def test_faces_are_rebuilt_only_when_the_torn_count_changes(renderer):
 def test_a_torn_sheet_casts_no_shadow_under_its_gap(renderer):
     # Cut across the middle and pull the near half 0.5 m away: the ground between the halves
     # gets sun. (The coarse copy the whole sheet's shadow uses would span the gap.)
-    from .test_look import cloth_red, fresh
+    from .helpers import cloth_red, fresh
 
     whole = draped(scene_with(wireframe=False))
     torn = torn_across(whole)

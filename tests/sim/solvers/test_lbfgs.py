@@ -10,13 +10,11 @@ import pytest
 from cloth_tui.scene import Scene
 from cloth_tui.sim.run.runner import Simulation
 
-from ..fabric.clipped_sheets import centre_height, clipped_sheet
 from ..effects.pulled_strips import FRAME, first_tear, pulled_strip
+from ..fabric.clipped_sheets import TYPED_DENIM as DENIM
+from ..fabric.clipped_sheets import centre_height, clipped_sheet
 
 CELLS = 16
-# denim's numbers typed out (a typed stretch is linear), so both solvers minimise one energy
-DENIM = {"areal_density": 0.324, "stretch": [410.7, 2027.8], "shear": 26.69,
-         "bending": 1.605e-5, "damping": 5.0}
 
 
 def sheet(solver="lbfgs", substeps=1, iterations=2, **material) -> Simulation:

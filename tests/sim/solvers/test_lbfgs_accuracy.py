@@ -85,12 +85,11 @@ def test_without_an_energy_tolerance_the_step_is_implicit_euler_at_the_scenes_su
 def test_at_the_default_scenes_settings_a_32_cell_sheet_hangs_within_1_percent():
     """1 substep of 2 iterations, adaptive at the default tolerance, against 4 substeps of
     20 (measured after 4 s: +0.31 % at 32 cells, +0.14 % at 16)."""
-    from ..fabric.clipped_sheets import centre_height, clipped_sheet
-    from .test_lbfgs import DENIM
+    from ..fabric.clipped_sheets import TYPED_DENIM, centre_height, clipped_sheet
 
     def sag(substeps: int, iterations: int, adaptive: bool) -> float:
         sim = Simulation(clipped_sheet(32, substeps, iterations).with_values(
-            {"behavior.solver": "lbfgs", "behavior.adaptive": adaptive, "material": DENIM}))
+            {"behavior.solver": "lbfgs", "behavior.adaptive": adaptive, "material": TYPED_DENIM}))
         for _ in range(240):
             sim.advance_frame()
         return 1 - centre_height(sim)
