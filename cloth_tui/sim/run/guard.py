@@ -1,5 +1,6 @@
 """The divergence guard's tests of a frame just run: not finite, energy gained from nowhere,
-or springs overstretched. The runner undoes such a frame and retries it with more substeps
+springs overstretched, or any untorn sheet running away (neighbours ten times their
+spacing apart). The runner undoes such a frame and retries it with more substeps
 (up to 2**MAX_GUARD_LEVEL times as many), or halts and says why."""
 
 from __future__ import annotations
@@ -9,13 +10,25 @@ from typing import TYPE_CHECKING
 
 from ..model import ClothModel
 from ..state import ClothState
-from .measures import all_finite, energy, gravitational_energy, kinetic_energy, stretch
+from .measures import (
+    all_finite,
+    energy,
+    gravitational_energy,
+    grid_spread,
+    kinetic_energy,
+    stretch,
+)
 
 if TYPE_CHECKING:
     from ...scene import Scene
     from ..pipeline import Step
 
 SPRING_DIVERGED = 1.0  # |L/L0 − 1| beyond which a springs integrator counts as diverged
+# Beyond this any solver counts as diverged: grid neighbours ten times their rest spacing
+# apart, in a sheet nothing has torn, are no fabric's, and no solve that converges holds them
+# so. A position-based step whose round-off grows (a fabric without structural edges at one
+# iteration) runs away while finite. (A torn sheet's pieces may fly apart: not checked.)
+RUNAWAY_SPREAD = 10.0
 # ... unless the same frame at twice the substeps ends this close to the same stretch: an
 # unstable step's stretch collapses when h halves, a load's (a heavy sheet, pins, a wave, a
 # moving object) stays.
@@ -68,19 +81,22 @@ def max_stretch(model: ClothModel, state: ClothState) -> float:
 
 def frame_problem(model: ClothModel, state: ClothState, scene: Scene, step: Step,
                   e0: tuple[float, float] | None) -> str | None:
-    """What is wrong with the frame just run, or None: not finite, or (a force-based
-    solver, whose `watches_energy`) energy gained from nowhere or, for explicit
-    integrators, a spring at over twice its rest length. Every solver clamps speeds to
-    max_speed, so speed shows nothing. A position-based step cannot run away while
-    finite (its prediction is clamped, projection and contacts only move particles
-    towards satisfied constraints and surfaces), and may legitimately stretch a lot at
-    few iterations; a force-based integrator going unstable shows as energy or as
-    stretch."""
+    """What is wrong with the frame just run, or None: not finite, an untorn sheet spread
+    beyond RUNAWAY_SPREAD, or (a force-based solver, whose `watches_energy`) energy gained from
+    nowhere or, for explicit integrators, a spring at over twice its rest length. Every
+    solver clamps speeds to max_speed, so speed shows nothing. A position-based step may
+    legitimately stretch a lot at few iterations, so only a runaway counts for it; a
+    force-based integrator going unstable shows as energy or as stretch. The runner takes
+    "overstretched" back where the same frame at twice the substeps stretches as much (a
+    load, not a divergence), and "spread apart" where it spreads as far."""
     if not finite(state):
         return "not finite"
     solver = step.solver
-    if solver is None or not solver.watches_energy:
+    if solver is None:
         return None
+    if not solver.watches_energy:
+        runaway = state.torn == 0 and grid_spread(model, state.x) > RUNAWAY_SPREAD
+        return "spread apart" if runaway else None
     if e0 is not None:
         e_start, scale = e0
         if energy(model, state, scene, solver) - e_start > ENERGY_GAIN_DIVERGED * scale:
@@ -88,6 +104,17 @@ def frame_problem(model: ClothModel, state: ClothState, scene: Scene, step: Step
     if solver.may_overstretch_unstably and max_stretch(model, state) > SPRING_DIVERGED:
         return "overstretched"
     return None
+
+
+def sheet_spread(model: ClothModel, state: ClothState) -> float:
+    return grid_spread(model, state.x)
+
+
+def load_measure(problem: str | None):
+    """For a problem a load may cause as well as a divergence, the measure (model, state) ->
+    float whose value stays at twice the substeps under a load (stretch_converged); None
+    for the others."""
+    return {"overstretched": max_stretch, "spread apart": sheet_spread}.get(problem)
 
 
 def stretch_converged(s1: float, s2: float) -> bool:

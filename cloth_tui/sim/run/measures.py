@@ -171,6 +171,29 @@ def _lowest_heights(mass, anchors, nearest, distance, floor, skin) -> float:
     return total
 
 
+def grid_spread(model: ClothModel, x: np.ndarray) -> float:
+    """The largest distance between neighbours along the grid's rows and columns, over their
+    rest spacing: how far the sheet has spread, whichever constraints it has (a fabric
+    without structural edges has none between them)."""
+    return _grid_spread(x, model.nx, model.nz, model.spacing_x, model.spacing_z)
+
+
+@kernel(fastmath=False)
+def _grid_spread(x, nx, nz, dx, dz):
+    worst = 0.0
+    for row in range(nz):
+        for col in range(nx):
+            i = row * nx + col
+            for j, rest in ((i + 1, dx), (i + nx, dz)):
+                if (j == i + 1 and col == nx - 1) or j >= nx * nz:
+                    continue
+                d = math.sqrt((x[i, 0] - x[j, 0]) ** 2 + (x[i, 1] - x[j, 1]) ** 2
+                              + (x[i, 2] - x[j, 2]) ** 2) / rest
+                if d > worst or d != d:  # a NaN is kept
+                    worst = d
+    return worst
+
+
 def stretch(model: ClothModel, x: np.ndarray, alive: np.ndarray | None = None
             ) -> tuple[float, float]:
     """Max and mean of |L/L0 − 1| over the enabled constraints still intact (all of them

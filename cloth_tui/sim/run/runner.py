@@ -20,7 +20,8 @@ from ..state import ClothState
 from . import gestures
 from .accuracy import error_tolerance, measure_damping
 from .guard import (GUARD_EASE_FRAMES, MAX_GUARD_LEVEL, SPRING_DIVERGED, energy_scale, finite,
-                    frame_problem, halt_reason, max_stretch, stretch_converged, watches_energy)
+                    frame_problem, halt_reason, load_measure, stretch_converged,
+                    watches_energy)
 from .measures import energy, free_energy, potential_floor
 from .numerical_damping import DampingMeter, measurable
 from .rebuild_policy import MODEL_KEYS, has_energy_source, needs_new_model, scene_material
@@ -137,7 +138,8 @@ class Simulation:
         self._run_frame()
         while not self.halted:
             problem = frame_problem(self.model, self.state, self.scene, self.step, e0)
-            if problem == "overstretched" and self._stretch_converges():
+            measure = load_measure(problem)
+            if measure is not None and self._converges(measure):
                 problem = None
             if problem:
                 self._recover()
@@ -200,17 +202,18 @@ class Simulation:
     def _finite(self) -> bool:
         return finite(self.state)
 
-    def _stretch_converges(self) -> bool:
-        """Run the frame again from its start at twice the substeps: the stretch the scene's
-        loads impose stays (within guard.STRETCH_CONVERGED), an unstable step's collapses.
-        The frame's own result is kept either way; the check's run is a trial."""
-        s1 = max_stretch(self.model, self.state)
+    def _converges(self, measure) -> bool:
+        """Run the frame again from its start at twice the substeps: the stretch (or spread,
+        `measure`) the scene's loads impose stays (within guard.STRETCH_CONVERGED), an
+        unstable step's collapses. The frame's own result is kept either way; the check's
+        run is a trial."""
+        s1 = measure(self.model, self.state)
         self._trial.restore(self.state)
         self.state.restore(self._good)
         self._guard_level += 1
         self._build_step()
         self._run_frame()
-        s2 = max_stretch(self.model, self.state) if self._finite() else float("inf")
+        s2 = measure(self.model, self.state) if self._finite() else float("inf")
         self._guard_level -= 1
         self._build_step()
         self.state.restore(self._trial)
