@@ -60,6 +60,10 @@ def test_one_bench_run_replaces_the_figures_and_keeps_the_prose(bench_json, tmp_
     assert "| 6 | " in region and "| 8 | " in region and "| 256 | " not in region
     assert "busy loop taking one core" in region  # --contended
     assert "| hpbd | 8 |" in region and "| xpbd | 6 |" in region
+    # the fabric's table: --quick's 16 and 32 cells, every solver that takes a material
+    fabric = region.split("### The cost of a fabric's accuracy")[1].split("###")[0]
+    assert "| lbfgs | 16 |" in fabric and "| xpbd | 32 |" in fabric
+    assert "`behavior.substeps = 1`" in fabric  # the default scene's settings, said
     # run again: the region is replaced, not appended to
     assert tool.main([str(bench_json), "--page", str(page)]) == 0
     assert page.read_text(encoding="utf-8") == after

@@ -4,7 +4,8 @@ default accuracy on a measured fabric as the sheet grows.
 The sheet: 1 m of denim (the measured 11 oz denim, a stiff woven: the hardest case for a
 solver of its stretch) held by two clips at the corners of its top edge, each 1/16 of the
 edge long, 1 m above nothing, falling from flat. Every setting is the default (adaptive
-substeps, the default error tolerance, the fabric's own damping). `n` is the number of cells
+substeps, the default error tolerance, the fabric's own damping; the default scene's solver at
+that scene's substeps and iterations). `n` is the number of cells
 a side, a multiple of 16 so every grid's clips hold the same length of edge; the sheet has
 (n + 1)² particles. Reported per solver and size as for the original scene
 (accuracy_cost.py): substeps and passes used, whether the tolerance was met, ms per frame
@@ -47,11 +48,23 @@ def clipped_fabric_scene(n: int, overrides: dict):
 
 
 def solver_runs() -> tuple[tuple[str, dict], ...]:
-    """(label, keys) of every registered solver that takes a material, the default first."""
+    """(label, keys) of every registered solver that takes a material, the registry's
+    default first. The solver the default scene names runs at that scene's substeps and
+    iterations (what a user gets), the others at the scene format's defaults."""
+    from ..scene_files import load
+
+    shipped = load("default").behavior
     own = solver_registry.DEFAULT
     names = solver_registry.names(takes_material=True)
     ordered = sorted(names, key=lambda name: name != own)
-    return tuple((name, {"behavior.solver": name}) for name in ordered)
+    runs = []
+    for name in ordered:
+        keys = {"behavior.solver": name}
+        if name == shipped.solver:
+            keys |= {"behavior.substeps": shipped.substeps,
+                     "behavior.iterations": shipped.iterations}
+        runs.append((name, keys))
+    return tuple(runs)
 
 
 def bench_fabric_cost(sizes=None, quick: bool = False, progress=lambda msg: None) -> dict:
