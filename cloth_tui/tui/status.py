@@ -109,7 +109,7 @@ class Readout:
         used = s.substeps_used
         text = (f"{what + ' · ' if what else ''}{bound} → "
                 + (f"{used} sub, {self.frame_ms:.1f} ms" if compact else
-                   f"{used} substeps, {self.frame_ms:.1f} ms/frame"))
+                   f"{used} substep{'' if used == 1 else 's'}, {self.frame_ms:.1f} ms/frame"))
         if s.tolerance_met is not False:
             return f"[b]{text}[/]"
         if short or compact:

@@ -59,6 +59,13 @@ def test_a_wide_line_says_it_in_full_words(readout):
     assert "xpbd · error 1 % → 11 substeps, 19.1 ms/frame" in Text.from_markup(cost).plain
 
 
+def test_one_substep_is_said_in_the_singular(readout):
+    readout.on_snapshot(2, dataclasses.replace(XPBD_STATS, substeps_used=1, material="denim"))
+    _, cost = readout.text(paused=False, recording=False, iterations=2, substeps=1,
+                           width=158)
+    assert "denim · error 1 % → 1 substep, " in Text.from_markup(cost).plain
+
+
 @pytest.mark.parametrize("width", [78, 110, 158])
 def test_a_first_run_says_it_is_compiling_and_still_fits(readout, width):
     readout.compiling = "compiling kernels (first run only)… 12 compiled, 40 s"
