@@ -104,7 +104,7 @@ def cost_rows(c: dict, title: str, intro: str) -> list[str]:
         name = s["solver"].split(",")[0]
         for row in s["rows"]:
             out.append(f"| {name} | {row['n']} | {row['substeps_per_frame']:.1f} | "
-                       f"{row['passes_per_substep']:g} | "
+                       f"{row['passes_per_substep']:.3g} | "
                        f"{row['work_per_frame']:.0f} | {'yes' if row['met'] else 'NO'} | "
                        f"{row['worst_error']:.3f} | {row['ms_per_frame']:.2f} "
                        f"[{row['ms_min']:.2f}–{row['ms_max']:.2f}] | "
