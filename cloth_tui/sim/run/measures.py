@@ -180,18 +180,24 @@ def grid_spread(model: ClothModel, x: np.ndarray) -> float:
 
 @kernel(fastmath=False)
 def _grid_spread(x, nx, nz, dx, dz):
+    """Squared distances over squared spacings, the root taken once: the guard asks every
+    frame."""
     worst = 0.0
     for row in range(nz):
         for col in range(nx):
             i = row * nx + col
-            for j, rest in ((i + 1, dx), (i + nx, dz)):
-                if (j == i + 1 and col == nx - 1) or j >= nx * nz:
-                    continue
-                d = math.sqrt((x[i, 0] - x[j, 0]) ** 2 + (x[i, 1] - x[j, 1]) ** 2
-                              + (x[i, 2] - x[j, 2]) ** 2) / rest
+            if col + 1 < nx:
+                d = ((x[i, 0] - x[i + 1, 0]) ** 2 + (x[i, 1] - x[i + 1, 1]) ** 2
+                     + (x[i, 2] - x[i + 1, 2]) ** 2) / (dx * dx)
                 if d > worst or d != d:  # a NaN is kept
                     worst = d
-    return worst
+            if row + 1 < nz:
+                j = i + nx
+                d = ((x[i, 0] - x[j, 0]) ** 2 + (x[i, 1] - x[j, 1]) ** 2
+                     + (x[i, 2] - x[j, 2]) ** 2) / (dz * dz)
+                if d > worst or d != d:
+                    worst = d
+    return math.sqrt(worst)
 
 
 def stretch(model: ClothModel, x: np.ndarray, alive: np.ndarray | None = None
