@@ -109,6 +109,9 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
         exiting = False
         spare: asyncio.Task | None = None  # starting the next visitor's app (a Spare)
         next_spare: asyncio.TimerHandle | None = None
+        # spares nobody could take (a visitor came while one was still being spawned),
+        # being ended: the shutdown waits for them too, or the loop closes under them
+        passed_over: set[asyncio.Task] = set()
 
         def serve(self, debug: bool = False) -> None:
             """textual-serve's own `serve`, but the start lines are printed once the port is
@@ -148,7 +151,9 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             if (spare is None or not spare.done() or spare.cancelled()
                     or spare.exception() is not None):
                 if spare is not None:
-                    spare.add_done_callback(_end_spare)
+                    ending = asyncio.get_running_loop().create_task(_end_spare_task(spare))
+                    self.passed_over.add(ending)
+                    ending.add_done_callback(self.passed_over.discard)
                 return None
             if self.next_spare is None and not self.exiting:
                 self.next_spare = asyncio.get_running_loop().call_later(
@@ -198,6 +203,7 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             ending = [visitor.stop() for visitor in visitors]
             if self.spare is not None:
                 ending.append(asyncio.ensure_future(_end_spare_task(self.spare)))
+            ending += list(self.passed_over)
             if ending:
                 await asyncio.wait(ending)
 
@@ -259,13 +265,8 @@ def run_serve(args) -> int:
     return 0
 
 
-def _end_spare(starting) -> None:
-    """A spare started while nobody could take it (it was still being spawned): ended."""
-    if not starting.cancelled() and starting.exception() is None:
-        starting.get_loop().create_task(starting.result().end())
-
-
 async def _end_spare_task(starting) -> None:
+    """The spare `starting` spawns, ended once it is a process (none: nothing to end)."""
     try:
         spare = await starting
     except Exception:  # noqa: BLE001 - no process was started: nothing to end
