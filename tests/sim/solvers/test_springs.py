@@ -174,3 +174,43 @@ def test_implicit_euler_cg_converges_within_cap():
         step.substep(st)
     from cloth_tui.sim.solvers.springs.integrators import CG_MAX_ITERATIONS
     assert 0 < step.effects[0].cg_iterations < CG_MAX_ITERATIONS
+
+
+@pytest.mark.parametrize("integrator", list(ORDERS))
+def test_a_move_past_the_speed_limit_is_brought_back_along_its_path(integrator):
+    eff, st = oscillator(integrator)
+    st.v[1] = [3e5, -4e5, 0.0]  # 500 km/s, a hundred thousand times max_speed
+    h = 0.01
+    eff.apply(st, h)
+    move = st.x[1] - st.x_prev[1]
+    limit = eff.params.max_speed
+    assert np.linalg.norm(move) == pytest.approx(limit * h, rel=1e-9)
+    assert move[0] > 0 and move[1] < 0  # along the path it was given, not elsewhere
+    assert np.linalg.norm(st.v[1]) <= limit * (1 + 1e-12)
+
+
+def test_a_torn_stiff_sheet_stays_within_its_speed_limit():
+    """Every spring of a stiff implicit-Euler sheet torn at once under a fast wave (a fuzzed
+    scene): the linearised step asked for moves of 10²⁰ m, which the contacts then projected
+    to the floor's height from below."""
+    s = Scene()
+    for k, v in (("forces.wind", True), ("forces.wind_direction", [-0.68, -0.19, -0.35]),
+                 ("forces.custom_strength", 0.163), ("forces.rain_strength", 1.77),
+                 ("scene.floor_height", 0.058), ("scene.object", "sphere"),
+                 ("scene.friction", 0.9), ("scene.moving", True),
+                 ("behavior.solver", "springs"), ("behavior.integrator", "implicit_euler"),
+                 ("behavior.compliance", 1e-8), ("behavior.damping", 4.3e-5),
+                 ("behavior.tear", True), ("behavior.tear_stretch", 1e-5),
+                 ("behavior.wave_frequency", 37.56), ("behavior.wave_amplitude", 0.1),
+                 ("behavior.frame_rate", 2.23), ("behavior.max_speed", 24.0),
+                 ("behavior.max_substeps", 7)):
+        s = s.with_value(k, v)
+    sim = Simulation(s)
+    start = sim.state.x.copy()
+    for _ in range(4):
+        sim.advance_frame()
+    stats = sim.stats()
+    assert stats.torn > 0.9 * len(sim.model.edges)
+    reach = 24.0 * sim.state.t
+    assert np.linalg.norm(sim.state.x - start, axis=1).max() <= reach * (1 + 1e-9)
+    assert stats.penetration == 0.0

@@ -29,7 +29,8 @@ the PBD solver's `damping`, see stages.damping_factor) and the scene's force eff
                       substep's Δv (relative residual 1e-6, at most CG_MAX_ITERATIONS
                       iterations; implicit_euler.py).
 
-After the integrator, the substep runs the contact effects (colliders, self-collision; they
+The integrator's move of each particle is then limited to max_speed·h (limit_moves).
+After that, the substep runs the contact effects (colliders, self-collision; they
 read x_prev = the substep's start positions), then the pins, then `correct_velocities`: a
 particle a contact moved gets v = (x − x_prev)/h (the PBD rule, so contacts behave as with
 pbd), pinned particles get their anchors' velocity, every other particle keeps the
@@ -138,6 +139,33 @@ def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
             v[i, 2] *= s
 
 
+@kernel()
+def limit_moves(x, x_prev, v, h, max_speed):
+    """A particle the integrator moved farther than max_speed·h is brought back along its
+    path to that distance, its velocity to max_speed: the speed limit holds for the path the
+    contacts then test, not only for the velocity kept (a linearised step on a stiff, torn
+    or tangled sheet can ask for moves of kilometres)."""
+    reach = max_speed * h
+    reach2 = reach * reach
+    vmax2 = max_speed * max_speed
+    for i in range(x.shape[0]):
+        dx = x[i, 0] - x_prev[i, 0]
+        dy = x[i, 1] - x_prev[i, 1]
+        dz = x[i, 2] - x_prev[i, 2]
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 > reach2:  # false for NaN: the guard sees a non-finite state as it is
+            s = reach / math.sqrt(d2)
+            x[i, 0] = x_prev[i, 0] + s * dx
+            x[i, 1] = x_prev[i, 1] + s * dy
+            x[i, 2] = x_prev[i, 2] + s * dz
+        s2 = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+        if s2 > vmax2:
+            s = max_speed / math.sqrt(s2)
+            v[i, 0] *= s
+            v[i, 1] *= s
+            v[i, 2] *= s
+
+
 # --- effects ----------------------------------------------------------------------------------
 
 class IntegrateSprings:
@@ -204,6 +232,7 @@ class IntegrateSprings:
             effect.apply(state, h)
         state.x_prev[...] = x
         self._advance(x, v, t, h)
+        limit_moves(x, state.x_prev, v, h, self.params.max_speed)
         restore_rows(x, state.x_prev, self.model.pinned)  # pins move only to their anchors
         self.x_pred[...] = x
         state.accel.fill(0.0)
