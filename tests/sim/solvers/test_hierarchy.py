@@ -33,7 +33,7 @@ def test_levels_nest_down_to_three_or_four_nodes_a_side(n):
     levels = build_levels(m)
     sizes = [len(lv.nodes) for lv in levels]
     assert sizes == sorted(sizes)  # coarsest first: 3 × 3, or 4 × 4 where the middle is no node
-    assert levels[0].rows == levels[0].cols and levels[0].rows in (3, 4)
+    assert levels[0].nz == levels[0].nx and levels[0].nz in (3, 4)
     finest = levels[-1]
     assert len(finest.sources) == m.num_particles
     for coarse, fine in zip(levels, levels[1:]):

@@ -42,8 +42,8 @@ class Level:
     """One coarse level. Its nodes are indexed row by row ("local"); so are the particles
     of the finer level below it (the sheet's own, for level 1)."""
 
-    rows: int                # node rows and columns: n = rows × cols
-    cols: int
+    nz: int                  # node rows and columns (grid.Grid's names): n = nz × nx
+    nx: int
     nodes: np.ndarray        # (n,) int64: the fine particle at each node
     inv_mass: np.ndarray     # (n,) 1/kg of each node, 0 where pinned
     edges: np.ndarray        # (m, 2) int64 local node pairs, in conflict-free colour order
@@ -159,7 +159,7 @@ def build_levels(model: ClothModel, max_levels: int = 16) -> list[Level]:
         rb, cb = np.divmod(nodes[edges[:, 1]], nx)
         ebox = np.stack([np.minimum(ra, rb), np.maximum(ra, rb), np.minimum(ca, cb),
                          np.maximum(ca, cb)], axis=1).astype(np.int64)
-        levels.append(Level(rows=len(rows_c), cols=len(cols_c), nodes=nodes, inv_mass=inv_c,
+        levels.append(Level(nz=len(rows_c), nx=len(cols_c), nodes=nodes, inv_mass=inv_c,
                             edges=edges, color_offsets=offsets,
                             rest=rest, edge_box=ebox, sources=sources, weights=weights,
                             own=own, free=(np.asarray(inv_f) > 0.0).astype(np.uint8),

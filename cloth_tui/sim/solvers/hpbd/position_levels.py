@@ -16,7 +16,7 @@ which are cheap), and keep its displacement from its restriction; the sheet's pa
 the finest level's displacement, interpolated. Contacts, friction, pins and tearing act on
 the fine sheet as with plain PBD (pipeline.assemble's stages around the projection).
 
-Each level is a rows × cols grid whose constraints take grid_sweeps' first 8 colours, so a
+Each level is an nz × nx grid whose constraints take grid_sweeps' first 8 colours, so a
 level of 1,024 nodes or more runs its passes as that module's vector runs (`project_level`);
 `cascade_loop`, plain loops over each level's constraint list, is the reference a test holds
 them to.
@@ -276,10 +276,10 @@ class ProjectHierarchy:
         self._total = np.zeros(len(self._r))
         self._passes = level_passes(len(lv), passes)
         self._seen_inv_mass = model.inv_mass.copy()  # the masses the levels weigh
-        # each level's constraints as grid_sweeps' colour runs over its own rows × cols grid
+        # each level's constraints as grid_sweeps' colour runs over its own nz × nx grid
         self._plans: list[tuple[SweepPlan, SweepScratch]] = []
         for v in lv:
-            plan = plan_sweeps(v.cols, v.rows, v.edges, v.color_offsets, v.rest, v.inv_mass)
+            plan = plan_sweeps(v.nx, v.nz, v.edges, v.color_offsets, v.rest, v.inv_mass)
             self._plans.append((plan, plan.scratch()))
 
     def refresh_masses(self) -> None:
