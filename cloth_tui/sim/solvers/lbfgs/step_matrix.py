@@ -9,7 +9,10 @@ starts each step from P⁻¹ and learns what it misses (the sheet's turning) fro
 gradients. A held particle's row and column are the identity, so it never moves.
 
 Factored by SciPy's SuperLU with a minimum-degree ordering of AᵀA + A: on a grid its fill
-grows as N log N, and so does a solve."""
+grows as N log N, and so does a solve. The factor is single precision: P⁻¹ is only where
+L-BFGS starts (the objective, its gradient and the line search stay in double, so the step
+still ends at the same minimum), and a solve is bound by reading the factor, half the bytes
+in single precision."""
 
 from __future__ import annotations
 
@@ -18,7 +21,7 @@ import weakref
 import numpy as np
 
 # Factors kept for steps made again: the accuracy control moves a sheet between two substep
-# counts, and each change builds a new step (a 256² factor is ~150 MB, 1.4 s of CPU).
+# counts, and each change builds a new step (a 256² factor is ~100 MB and a second of CPU).
 FACTORS_KEPT = 2
 _kept: list = []  # (model's weak reference, the matrix's inputs, factor), the latest last
 
@@ -65,10 +68,21 @@ def step_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float, thet
                            np.concatenate([c[keep], everyone]))), shape=(n, n)).tocsc()
 
 
-def factor(matrix):
+class SinglePrecisionFactor:
+    """P's LU factors in single precision; `.solve(b)` takes and gives double (N, 3)."""
+
+    def __init__(self, matrix):
+        from scipy.sparse.linalg import splu
+        self._lu = splu(matrix.astype(np.float32), permc_spec="MMD_AT_PLUS_A",
+                        options={"SymmetricMode": True})
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self._lu.solve(b.astype(np.float32)).astype(np.float64)
+
+
+def factor(matrix) -> SinglePrecisionFactor:
     """A solver for P: `.solve(b)` with b (N, 3)."""
-    from scipy.sparse.linalg import splu
-    return splu(matrix, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+    return SinglePrecisionFactor(matrix)
 
 
 def kept_factor(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float):
