@@ -165,21 +165,22 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
     def _start_sim(self, paused: bool) -> None:
         if self.sim is not None:
             self.sim.stop(timeout=0.2)
-        self.sim = SimulationThread(self.scene, on_snapshot=self._on_snapshot)
+        # the snapshots go from the simulation thread to the renderer and to the UI's queue
+        to = [self._on_snapshot] if self.renderer is None else [self.renderer.submit,
+                                                               self._on_snapshot]
+        self.sim = SimulationThread(self.scene, subscribers=to, on_died=self._post_sim_died)
         self.sim.on_frame = self.bake.on_frame
         self.sim.paused = paused
         self.sim.start()
-        self._on_snapshot(self.sim.latest)  # first picture and stats, even when paused
 
     # -- from other threads (never touch widgets here) ------------------------------------
     def _on_snapshot(self, snap) -> None:
-        if snap is None:
-            self.post_message(SimDied(self.sim.error if self.sim else None))
-            return
-        if self.renderer is not None:
-            self.renderer.submit(snap)
         if self._snapshots.put(snap):
             self.post_message(SimUpdated())
+
+    def _post_sim_died(self, error: BaseException) -> None:
+        # (not `_on_sim_died`: Textual would call that for every SimDied message too)
+        self.post_message(SimDied(error))
 
     def _on_frame(self, frame) -> None:
         if self._frames.put(frame):

@@ -7,14 +7,18 @@ from textual.message import Message
 
 
 class SimUpdated(Message):
-    """A new snapshot waits in the app's mailbox."""
+    """Posted when the simulation thread has put a new snapshot in the app's mailbox (and
+    the mailbox was empty: one message wakes the app for any number of snapshots)."""
 
 
 class FrameReady(Message):
-    """A new rendered frame waits in the app's mailbox."""
+    """Posted when the render thread has put a new frame in the app's mailbox (and the
+    mailbox was empty)."""
 
 
 class SimDied(Message):
+    """Posted when the simulation thread has ended on an exception, `error`."""
+
     def __init__(self, error: BaseException | None) -> None:
         super().__init__()
         self.error = error
@@ -30,6 +34,9 @@ class PinResult(Message):
 
 
 class Captured(Message):
+    """Posted when the render thread has finished, or failed, a screenshot or a video:
+    `event` says which, and where it went."""
+
     def __init__(self, event: Any) -> None:
         super().__init__()
         self.event = event

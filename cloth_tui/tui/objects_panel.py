@@ -39,8 +39,9 @@ class ObjectsPanel(Vertical):
     """
 
     class Changed(Message):
-        """The user asks for these objects (not yet validated). `field`: the row edited, to
-        show its last good value if refused; `submitted`: Enter in that row."""
+        """Posted when the user asks for these objects (not yet validated): an edited row, Add
+        or Remove. `field`: the row edited, to show its last good value if refused;
+        `submitted`: Enter in that row."""
 
         def __init__(self, objects: list[dict[str, Any]], field: SettingField | None = None,
                      submitted: bool = False) -> None:

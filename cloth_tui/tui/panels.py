@@ -49,7 +49,8 @@ class Controls(VerticalScroll):
     the scene's sections."""
 
     class Command(Message):
-        """A button: 'restart', 'defaults' or 'hide'."""
+        """Posted when the user presses a button: `command` is 'restart', 'defaults' or
+        'hide'."""
 
         def __init__(self, command: str) -> None:
             super().__init__()

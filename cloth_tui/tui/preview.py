@@ -171,21 +171,23 @@ class Preview(Widget):
     """
 
     class Resized(Message):
-        """The preview wants images of this many pixels (cols × 2·rows)."""
+        """Posted when the preview is laid out at a new size: it wants images of this many
+        pixels (cols × 2·rows)."""
 
         def __init__(self, width: int, height: int) -> None:
             super().__init__()
             self.width, self.height = width, height
 
     class Grab(Message):
-        """Mouse pressed at image point (u, v), both in [0, 1] from the top-left."""
+        """Posted when the mouse is pressed at image point (u, v), both in [0, 1] from the
+        top-left."""
 
         def __init__(self, u: float, v: float) -> None:
             super().__init__()
             self.u, self.v = u, v
 
     class Drag(Message):
-        """The grabbed point moved by (du, dv) image fractions, on a preview of
+        """Posted when the grabbed point moves by (du, dv) image fractions, on a preview of
         (width_px, height_px) half-block pixels (its columns and twice its rows)."""
 
         def __init__(self, du: float, dv: float, width_px: int, height_px: int) -> None:
@@ -194,15 +196,16 @@ class Preview(Widget):
             self.width_px, self.height_px = width_px, height_px
 
     class Release(Message):
-        """Mouse released after a grab; `pin`: Ctrl was held when it was pressed or released
-        (the pin gesture: hold the particle there)."""
+        """Posted when the mouse is released after a grab; `pin`: Ctrl was held when it was
+        pressed or released (the pin gesture: hold the particle there)."""
 
         def __init__(self, pin: bool = False) -> None:
             super().__init__()
             self.pin = pin
 
     class Cut(Message):
-        """Right-drag (the knife) at image point (u, v); `start`: the drag begins here."""
+        """Posted when the right button drags (the knife) at image point (u, v); `start`: the
+        drag begins here."""
 
         def __init__(self, u: float, v: float, start: bool) -> None:
             super().__init__()

@@ -120,7 +120,8 @@ class SettingField(Horizontal):
                         show=False)]
 
     class Edited(Message):
-        """The user asks for `dotted` = `value` (not yet validated)."""
+        """Posted when the user flips the switch, picks an option, or submits or leaves a
+        text field they changed: they ask for `dotted` = `value` (not yet validated)."""
 
         def __init__(self, field: "SettingField", dotted: str, value: Any,
                      submitted: bool = False) -> None:

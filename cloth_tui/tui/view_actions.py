@@ -67,7 +67,8 @@ class ViewActions:
 
     def _place_crosshair(self) -> bool:
         """Put the crosshair on the particle nearest the middle of the sheet, by picking a
-        coarse grid of image points (pick is cheap). False if no particle is visible yet."""
+        coarse grid of image points (pick is cheap); of the points that pick it, the one
+        nearest the picture's centre. False if no particle is visible yet."""
         nx, nz = self.scene.cloth.grid_shape()
         best, best_d = None, None
         for i in range(1, 24):
@@ -76,7 +77,8 @@ class ViewActions:
                 p = self.renderer.pick(*uv)
                 if p is None:
                     continue
-                d = abs(p // nx - (nz - 1) / 2) + abs(p % nx - (nx - 1) / 2)
+                d = (abs(p // nx - (nz - 1) / 2) + abs(p % nx - (nx - 1) / 2),
+                     (uv[0] - 0.5) ** 2 + (uv[1] - 0.5) ** 2)
                 if best_d is None or d < best_d:
                     best, best_d = uv, d
         if best is None:

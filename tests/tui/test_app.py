@@ -222,7 +222,7 @@ def test_captures_and_failures_are_reported(tmp_path):
             app.renderer.on_event(CaptureEvent(CaptureKind.ERROR, None, "disk full"))
             await until(pilot, lambda: "disk full" in notifications(app))
             app.sim.error = RuntimeError("boom")
-            app._on_snapshot(None)
+            app.sim.on_died(app.sim.error)  # as the thread tells of its end
             await until(pilot, lambda: any("boom" in m for m in notifications(app)))
             assert app.is_running
             dead = app.sim

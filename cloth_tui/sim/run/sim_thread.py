@@ -6,7 +6,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Sequence
 
 from ...newest_slot import NewestSlot
 from .run_stats import RunStats
@@ -27,14 +27,19 @@ PUBLISH_INTERVAL = 1.0 / 60.0  # s
 class SimulationThread:
     """Runs a Simulation in real time (one frame per 1/frame_rate wall seconds, or as fast as
     it can) on a daemon thread. Other threads talk to it only through `submit` and read
-    `latest`; `on_snapshot` is called from the simulation thread after every frame it
-    publishes (catching up, several frames are published as one). `on_frame`, if set, is
-    called there after every frame simulated (a recorder that needs them all); it may read
-    the Simulation, not keep it."""
+    `latest`. Each of `subscribers` (the renderer, the UI's queue) is called from the
+    simulation thread with every snapshot it publishes: the first as the thread starts
+    (a picture and statistics even when paused), then after frames (catching up, several
+    frames are published as one) and after every command. `on_died` is called there once
+    with the exception that ended the thread. `on_frame`, if set, is called there after
+    every frame simulated (a recorder that needs them all); it may read the Simulation, not
+    keep it."""
 
-    def __init__(self, scene: Scene, on_snapshot: Callable[[Snapshot], None] | None = None):
+    def __init__(self, scene: Scene, subscribers: Sequence[Callable[[Snapshot], None]] = (),
+                 on_died: Callable[[BaseException], None] | None = None):
         self.sim = Simulation(scene)
-        self.on_snapshot = on_snapshot
+        self.subscribers = tuple(subscribers)
+        self.on_died = on_died
         self.on_frame: Callable[[Simulation], None] | None = None
         self.paused = False
         self._commands: deque[Callable[[Simulation], None]] = deque()
@@ -81,8 +86,11 @@ class SimulationThread:
         else:
             snap = self.sim.snapshot(self._stats)
         self._latest.put(snap)
-        if self.on_snapshot is not None:
-            self.on_snapshot(snap)
+        self._hand_over(snap)
+
+    def _hand_over(self, snap: Snapshot) -> None:
+        for subscriber in self.subscribers:
+            subscriber(snap)
 
     def _run(self) -> None:
         """Frames are due every 1/frame_rate s of wall time. A late thread (the GIL held by the
@@ -92,6 +100,7 @@ class SimulationThread:
         takes longer than PUBLISH_INTERVAL publishes on the way."""
         next_t = time.perf_counter()  # when the next frame is due
         try:
+            self._hand_over(self.latest)
             while not self._stop.is_set():
                 changed = commanded = False
                 while self._commands:
@@ -125,5 +134,5 @@ class SimulationThread:
                     self._wake.clear()
         except BaseException as e:  # reported to the UI, never lost silently
             self.error = e
-            if self.on_snapshot is not None:
-                self.on_snapshot(None)
+            if self.on_died is not None:
+                self.on_died(e)

@@ -180,7 +180,7 @@ def test_thread_computes_full_statistics_only_every_interval(monkeypatch):
     real_stats = Simulation.stats
     monkeypatch.setattr(Simulation, "stats", lambda self: calls.append(1) or real_stats(self))
     published = []
-    thread.on_snapshot = published.append
+    thread.subscribers = (published.append,)
     for frame in range(60):  # one simulated second at 60 Hz, in one second of wall time
         thread.sim.advance_frame()
         thread._publish(full=False)
@@ -218,14 +218,15 @@ def test_on_frame_sees_every_frame_and_slow_frames_are_each_published(monkeypatc
         if len(seen) >= 30:
             enough.set()
     thread.on_frame = on_frame
-    thread.on_snapshot = lambda snap: published.append(snap.frame)
+    thread.subscribers = (lambda snap: published.append(snap.frame),)
     thread.start()
     assert enough.wait(30)
     thread.stop()
     assert seen[:30] == list(range(1, 31))
-    # every look at this clock takes 83 ms, so each frame is slow: each is published as it
-    # is done (a sheet too large for real time is shown at its own rate, not every 6th frame)
-    assert published[:29] == list(range(1, 30))
+    # the starting sheet first; then every look at this clock takes 83 ms, so each frame is
+    # slow: each is published as it is done (a sheet too large for real time is shown at its
+    # own rate, not every 6th frame)
+    assert published[:30] == list(range(0, 30))
 
 
 def test_quick_catch_up_frames_are_published_as_one(monkeypatch):
@@ -238,7 +239,8 @@ def test_quick_catch_up_frames_are_published_as_one(monkeypatch):
     thread = SimulationThread(scene(cloth__resolution=6))
     seen, published, first = [], [], threading.Event()
     thread.on_frame = lambda sim: seen.append(sim.frames)
-    thread.on_snapshot = lambda snap: published.append(snap.frame) or first.set()
+    thread.subscribers = (lambda snap: published.append(snap.frame)
+                          or (snap.frame == 1 and first.set()),)
     thread.start()
     try:
         assert first.wait(30)
@@ -250,7 +252,7 @@ def test_quick_catch_up_frames_are_published_as_one(monkeypatch):
     finally:
         thread.stop()
     assert seen == [1, 2, 3, 4, 5, 6]
-    assert published == [1, 6]
+    assert published == [0, 1, 6]  # the starting sheet, the first frame, the five caught up
 
 
 def test_simulate_summary_is_exact():
