@@ -157,6 +157,15 @@ def particle_masses(nx: int, nz: int, total: float, mass_model: str = "area") ->
     return (cell * np.outer(row_share, col_share)).ravel()
 
 
+# The [cloth] and [behavior] keys build_model reads (tests/sim/test_model.py records them):
+# a new value of one is a new sheet, where other keys only retune the step. Whether tethers
+# are built also reads the solver and tearing (uses_tethers), compared on their own.
+MODEL_KEYS = frozenset(
+    {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
+                            "mass_model", "height")}
+    | {("behavior", k) for k in ("structural", "shear", "bending", "seed", "tethers", "wave")})
+
+
 def build_model(cloth, behavior, pin_groups=(), material=None) -> ClothModel:
     """Build the model from the scene's [cloth] and [behavior] sections, its [[pins]] and
     its material (materials.schema.Material, or None for the original's unitless keys).

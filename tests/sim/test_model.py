@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 
 from cloth_tui.scene import Scene
-from cloth_tui.sim.model import (BENDING, SHEAR, STRUCTURAL, build_model, grid_triangles,
-                                 pinned_indices)
+from cloth_tui.sim.model import (BENDING, MODEL_KEYS, SHEAR, STRUCTURAL, build_model,
+                                 grid_triangles, pinned_indices)
 
 
 def model_for(**cloth):
@@ -160,3 +160,44 @@ def test_every_cell_is_split_along_the_same_diagonal(nx, nz):
             shared = halves[0] & halves[1]
             diagonals.add(tuple(sorted((a // nx - i, a % nx - j) for a in shared)))
     assert diagonals == {((0, 1), (1, 0))}  # (i, j+1)–(i+1, j) everywhere
+
+
+class ReadRecorder:
+    """Stands for a scene section and records each of its keys read, through its methods
+    and properties too (they run with the recorder as self)."""
+
+    def __init__(self, section, name: str, read: set):
+        object.__setattr__(self, "_real", section)
+        object.__setattr__(self, "_name", name)
+        object.__setattr__(self, "_read", read)
+
+    def __getattr__(self, key):
+        attr = getattr(type(self._real), key, None)
+        if isinstance(attr, property):
+            return attr.fget(self)
+        if callable(attr):
+            return attr.__get__(self)
+        self._read.add((self._name, key))
+        return getattr(self._real, key)
+
+
+def keys_build_model_reads(scene: Scene) -> set:
+    from cloth_tui.sim.run.rebuild_policy import scene_material
+
+    read: set = set()
+    build_model(ReadRecorder(scene.cloth, "cloth", read),
+                ReadRecorder(scene.behavior, "behavior", read), scene.pins,
+                scene_material(scene))
+    return read
+
+
+def test_the_model_keys_are_the_keys_build_model_reads():
+    """What rebuilds the sheet is what the sheet is built from: a key build_model reads and
+    MODEL_KEYS misses would change nothing on screen until a restart; a key in MODEL_KEYS
+    that it does not read would rebuild the sheet for nothing."""
+    original = Scene().with_values({"behavior.wave": True})  # wave: read only when on
+    fabric = Scene().with_values({"material": {"preset": "denim"}})
+    read = keys_build_model_reads(original) | keys_build_model_reads(fabric)
+    # whether tethers are built: needs_new_model compares uses_tethers itself
+    tether_only = {("behavior", "solver"), ("behavior", "tear")}
+    assert read - tether_only == MODEL_KEYS

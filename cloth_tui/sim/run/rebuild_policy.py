@@ -6,16 +6,10 @@ from __future__ import annotations
 import dataclasses
 from typing import TYPE_CHECKING
 
-from ..model import uses_tethers
+from ..model import MODEL_KEYS, uses_tethers
 
 if TYPE_CHECKING:
     from ...scene import Scene
-
-# What forces a rebuild of the model (topology, masses, pins) rather than only the step.
-MODEL_KEYS = {("cloth", k) for k in ("size", "resolution", "pinned", "pin_fraction", "mass",
-                                     "mass_model", "height")} | \
-             {("behavior", k) for k in ("structural", "shear", "bending", "seed",
-                                        "tethers", "wave")}
 
 
 def scene_material(scene: Scene):
