@@ -21,7 +21,8 @@ import weakref
 import numpy as np
 
 # Factors kept for steps made again: the accuracy control moves a sheet between two substep
-# counts, and each change builds a new step (a 256² factor is ~100 MB and a second of CPU).
+# counts, and each change builds a new step (a large sheet's factor is a visible pause to
+# make and tens of MB to keep).
 FACTORS_KEPT = 2
 _kept: list = []  # (model's weak reference, the matrix's inputs, factor), the latest last
 
