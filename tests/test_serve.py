@@ -92,16 +92,20 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
             assert red_share(shot, PREVIEW) > 0.05
 
             # paused, the status line changes only when the sheet is moved
+            since_key = len(screen())
             await browser.press("space")
             # the status line says PAUSED at the key; frames already in flight (a loaded
             # machine runs late frames in catch-up runs) are published after it, until its
-            # sim rate reads 0
+            # sim rate reads 0. Looked for in all the terminal drew since the key: the
+            # preview's rows drawn after that status line may be thousands of characters
             try:
-                await browser.wait_for(lambda: STOPPED.search(screen()[-3000:]), 60,
+                await browser.wait_for(lambda: STOPPED.search(screen()[since_key:]), 60,
                                        "PAUSED with the sim at 0 fps")
             except AssertionError as e:  # the status line as it was, for the next look
-                raise AssertionError(f"{e}; the terminal's last text: "
-                                     f"{screen()[-1500:]!r}") from None
+                text = screen()
+                at = text.rfind("fps")
+                raise AssertionError(f"{e}; the terminal's last status text: "
+                                     f"{text[max(0, at - 200):at + 200]!r}") from None
             await asyncio.sleep(1.0)  # the last frame's full statistics drawn
             before = ENERGY.findall(screen())[-1]
             await asyncio.sleep(1.0)
