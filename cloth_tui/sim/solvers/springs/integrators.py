@@ -142,7 +142,7 @@ def finish_velocities(x, x_prev, x_pred, v, inv_mass, inv_h, max_speed):
 # An integrator's move of a particle is cut to this many times the speed limit's reach in a
 # substep. A step that diverges then stays representable (the floor's projection of a point
 # 10²⁰ m below it rounds to the floor's height), while it still stretches its springs far
-# past what the guard reads as diverged; a move within the speed limit is never touched.
+# past what the guard reads as diverged; a shorter move is the integrator's own.
 MOVE_LIMIT = 10.0
 
 
