@@ -3,13 +3,13 @@ and the solver's numbers (as Warp's `model.gravity` and `Control`).
 
 A step (pipeline.build) holds one StepParams and its stages read it when they run, so a change of
 these values is an assignment (`assign`) that the next substep sees; the masses (cloth.mass, a
-material's density) and a material's α per constraint are the model's numbers, refitted in place
-(model.refitted, Step.retune). Nothing is rebuilt, and the adaptive substeps, the kernels' thread
-choice and the divergence guard go on. What a step *is* (which stages run, on which particles and
-constraints) is the scene's structure: the scene with every parameter reduced to what decides
-whether its stage exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no wind stage). Two
-scenes of the same structure (`same_structure`) run the same stages, so only a change of structure
-rebuilds the step.
+material's density) and all of a material's numbers (α per constraint, damping) are the model's,
+refitted in place (model.refitted, Step.retune). Nothing is rebuilt, and the adaptive substeps,
+the kernels' thread choice and the divergence guard go on. What a step *is* (which stages run, on
+which particles and constraints) is the scene's structure: the scene with every parameter reduced
+to what decides whether its stage exists (wind at 3 or 5 m/s is the same step; at 0 m/s it has no
+wind stage). Two scenes of the same structure (`same_structure`) run the same stages, so only a
+change of structure rebuilds the step.
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable
 
-from ..materials.schema import Material
 from ..materials.section import MaterialSection
 from ..scene_keys import SECTIONS
 
@@ -62,7 +61,6 @@ class StepParams:
     max_speed: float = _param("behavior.max_speed", 50.0)  # m/s
     stiffness: float = _param("behavior.stiffness", 2000.0)  # N/m, springs
     spring_damping: float = _param("behavior.spring_damping", 0.5)  # N·s/m, springs
-    material: Material | None = None  # the fabric's numbers (damping, α), None: none
     object_friction: tuple = ()     # each [[objects]] entry's own μs, −1: the scene's
 
     def __post_init__(self) -> None:
@@ -99,7 +97,6 @@ def unit(direction) -> tuple:
 def _values(scene: Scene) -> dict[str, Any]:
     values = {name: scene.get(key) for name, key in _KEYED}
     values["wind_direction"] = unit(values["wind_direction"])
-    values["material"] = None if scene.material is None else scene.material.material
     values["object_friction"] = tuple(o.friction for o in scene.objects)
     return values
 

@@ -38,7 +38,8 @@ EDITS = [
 DENIM = {"behavior.solver": "xpbd", "material.preset": "denim"}
 MATERIAL_EDITS = [(DENIM, "material.stretch", 200.0), (DENIM, "material.shear", 5.0),
                   (DENIM, "material.bending", 1e-4), (DENIM, "material.damping", 2.0),
-                  (DENIM, "material.areal_density", 0.6)]
+                  (DENIM, "material.areal_density", 0.6),
+                  ({**DENIM, "behavior.solver": "lbfgs"}, "material.damping", 2.0)]
 
 
 def test_every_parameter_key_is_edited_below():

@@ -248,6 +248,7 @@ class LBFGSSolver(SolverBase):
             predict = IntegrateVerlet(model, params)
             self._velocities = UpdateVelocities(model, params)
             share = 1.0
+        self._predict = predict
         self._integrate: list[Effect] = list(forces) + [predict]
         self.projection = SolveImplicitStep(model, params.iterations, params.compliance,
                                             step_share=share)
@@ -255,6 +256,7 @@ class LBFGSSolver(SolverBase):
 
     def retune(self, params: StepParams, model) -> None:
         self.model = model
+        self._predict.retune(model)
         self.projection.iterations = params.iterations
         self.projection.set_model(model, params.compliance)
 

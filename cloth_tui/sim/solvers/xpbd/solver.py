@@ -31,7 +31,8 @@ class XPBDSolver(SolverBase):
     def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
                  params: StepParams):
         super().__init__(model, behavior, forces, h, params)
-        self._integrate: list[Effect] = list(forces) + [IntegrateVerlet(model, params)]
+        self._predict = IntegrateVerlet(model, params)
+        self._integrate: list[Effect] = list(forces) + [self._predict]
         self.projection: ProjectConstraints | ProjectFabric
         if model.fabric is not None:
             self.projection = ProjectFabric(model, params.iterations, h,
@@ -53,9 +54,11 @@ class XPBDSolver(SolverBase):
         return None
 
     def retune(self, params: StepParams, model) -> None:
-        """Take the projection's numbers from `params` and `model` (its masses and its
-        fabric's α, model.refitted), between frames."""
+        """Take the prediction's fabric (its damping) and the projection's numbers from
+        `params` and `model` (its masses and its fabric's α, model.refitted), between
+        frames."""
         self.model = model
+        self._predict.retune(model)
         projection = self.projection
         projection.iterations = params.iterations
         if isinstance(projection, ProjectFabric):

@@ -68,19 +68,26 @@ def update_velocities(x, x_prev, v, inv_mass, inv_h, max_speed):
 
 
 class IntegrateVerlet:
+    """The prediction. Its damping is the model's fabric's decay rate where the sheet has a
+    fabric (the model is the one channel of a material's numbers), else behavior.damping,
+    read from `params` as it runs."""
     name = "integrate_verlet"
 
     def __init__(self, model, params: StepParams):
         self.inv_mass = model.inv_mass
+        self.fabric = model.fabric
         self.params = params
 
+    def retune(self, model) -> None:
+        """Take the fabric of a model refitted with new numbers (model.refitted)."""
+        self.fabric = model.fabric
+
     def keep(self, h: float) -> float:
-        """Velocity kept over a substep of h: behavior.damping's share per 18 ms, or the
-        material's decay rate."""
-        p = self.params
-        if p.material is not None:
-            return decay_factor(p.material.damping, h)
-        return damping_factor(p.damping, h)
+        """Velocity kept over a substep of h: the fabric's decay rate, or behavior.damping's
+        share per 18 ms."""
+        if self.fabric is not None:
+            return decay_factor(self.fabric.material.damping, h)
+        return damping_factor(self.params.damping, h)
 
     def apply(self, state, h):
         integrate_verlet(state.x, state.x_prev, state.v, state.accel, self.inv_mass, h,
