@@ -32,6 +32,7 @@ from .bake_key import BakeKey
 from .bindings import APP_BINDINGS, CONTROL_KEYS_ACTIONS, TEXT_KEYS_ACTIONS
 from .capture_actions import CaptureActions
 from .commands import FabricCommands, SceneCommands, with_own_screenshot
+from .debug_log import DebugLog
 from .fabric_actions import FabricActions
 from .graphics.detect import Graphics
 from .help import HelpScreen
@@ -105,8 +106,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self.bake = BakeKey(self.captures_dir, self.notify, self.download)  # `e`: record to USD
         self.crash: Exception | None = None  # the first exception nothing caught
         self._compiling = CompileWatch()  # a first run's kernels, told in the status line
-        log = os.environ.get("CLOTH_TUI_DEBUG_LOG")  # timestamps of keys and frames
-        self._debug = open(log, "a", buffering=1, encoding="utf-8") if log else None
+        self._debug = DebugLog.from_environment()  # timestamps of keys and frames
 
     def notify(self, message: str, *, title: str = "", severity: str = "information",
                timeout: float | None = None, markup: bool = False) -> None:
@@ -207,9 +207,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         t0 = time.perf_counter()
         preview.show_image(frame.image)
         self.readout.on_frame(frame.render_ms)
-        if self._debug is not None:
-            self._debug.write(f"{t0:.4f} frame {frame.frame} render_ms {frame.render_ms:.2f} "
-                              f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}\n")
+        self._debug.line(f"frame {frame.frame} render_ms {frame.render_ms:.2f} "
+                         f"ui_ms {1e3 * (time.perf_counter() - t0):.2f}", at=t0)
         self._freeze_start_up()
         if self._start_when_shown and self.sim is not None:
             self._start_when_shown = False
@@ -298,12 +297,11 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         return with_own_screenshot(super().get_system_commands(screen), self.action_screenshot)
 
     def _log_key(self, what: str) -> None:
-        self.debug_line(f"key {what}")
+        self._debug.line(f"key {what}")
 
     def debug_line(self, text: str) -> None:
         """A timestamped line in the debug log (CLOTH_TUI_DEBUG_LOG), when there is one."""
-        if self._debug is not None:
-            self._debug.write(f"{time.perf_counter():.4f} {text}\n")
+        self._debug.line(text)
 
     def action_pause(self) -> None:
         self._start_when_shown = False  # the user's choice, from now on
@@ -380,9 +378,8 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         if self.renderer is not None:
             self.renderer.stop(timeout=1.0)
         self.bake.finish(timeout=5.0)  # saved, as a running video is finished
-        if self._debug is not None:
-            self._debug.write(f"{time.perf_counter():.4f} shutdown "
-                              f"{1e3 * (time.perf_counter() - t0):.0f} ms\n")
+        self._debug.line(f"shutdown {1e3 * (time.perf_counter() - t0):.0f} ms")
+        self._debug.close()
 
     def _freeze_start_up(self) -> None:
         """Once, at the first frame shown (start-up is over): see memory.py."""
