@@ -11,7 +11,7 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.collision.shapes import torus
 
-from ..helpers import run, scene
+from ...helpers import run, scene
 
 CENTRE = np.array([0.1, -0.2, 0.05])
 BIG, SMALL = 0.3, 0.1

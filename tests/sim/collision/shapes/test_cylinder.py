@@ -9,7 +9,7 @@ from cloth_tui.sim.collision import colliders
 from cloth_tui.sim.model import build_model
 from cloth_tui.sim.run.runner import Simulation
 
-from ..helpers import run, scene
+from ...helpers import run, scene
 
 CENTRE = np.array([0.1, -0.2, 0.05])
 RADIUS, HEIGHT = 0.15, 0.4

@@ -14,7 +14,7 @@ from cloth_tui.sim.model import build_model
 from cloth_tui.sim.protocols import ObjectPose
 from cloth_tui.sim.collision.shapes import SHAPES, UnknownShapeError, shape_of
 
-TORUS_PLY = Path(__file__).parents[3] / "assets" / "meshes" / "torus.ply"
+TORUS_PLY = Path(__file__).parents[4] / "assets" / "meshes" / "torus.ply"
 CENTRE = (0.1, -0.2, 0.05)
 
 # Keys of one object of each registered shape, as a scene file writes them, and a point
