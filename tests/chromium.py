@@ -143,6 +143,18 @@ class Chromium:
                     out += base64.b64decode(frame["payloadData"])
         return bytes(out)
 
+    async def focus_terminal(self) -> bool:
+        """Focus the page's terminal, as a click on it does, so that keys reach the app;
+        whether it then has the focus."""
+        return await self.evaluate(
+            "(t => { t.focus(); return document.activeElement === t; })"
+            "(document.querySelector('.xterm-helper-textarea'))")
+
+    async def focused_element(self) -> str:
+        """The tag and classes of the page's focused element, to say where keys went."""
+        return await self.evaluate(
+            "(e => e ? e.tagName + '.' + e.className : 'none')(document.activeElement)")
+
     async def press(self, key: str) -> None:
         name, code, vk, text = KEYS[key]
         common = {"key": name, "code": code, "windowsVirtualKeyCode": vk,

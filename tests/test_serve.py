@@ -80,7 +80,7 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
             await browser.wait_for(lambda: "blocks truecolor" in screen(), START_S,
                                    "the status line, naming half-blocks")
             # the terminal takes the keys once focused (as a click on the page does)
-            await browser.evaluate("document.querySelector('.xterm-helper-textarea').focus()")
+            assert await browser.focus_terminal()
             await browser.wait_for(lambda: "Quit" in screen(), 30, "the footer's keys")
             await browser.wait_for(lambda: screen().count("▀") > PICTURE, START_S,
                                    "the preview's half-block picture")
@@ -93,6 +93,8 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
 
             # paused, the status line changes only when the sheet is moved
             since_key = len(screen())
+            # focused again before the key: the page may have moved its focus meanwhile
+            assert await browser.focus_terminal()
             await browser.press("space")
             # the status line says PAUSED at the key; frames already in flight (a loaded
             # machine runs late frames in catch-up runs) are published after it, until its
@@ -105,7 +107,8 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
                 text = screen()
                 at = text.rfind("fps")
                 raise AssertionError(f"{e}; the terminal's last status text: "
-                                     f"{text[max(0, at - 200):at + 200]!r}") from None
+                                     f"{text[max(0, at - 200):at + 200]!r}; focused in the page: "
+                                     f"{await browser.focused_element()}") from None
             await asyncio.sleep(1.0)  # the last frame's full statistics drawn
             before = ENERGY.findall(screen())[-1]
             await asyncio.sleep(1.0)
