@@ -94,19 +94,16 @@ def sag_error(cells, solver, substeps, iterations):
     return 1.0 - centre_height(sim), sim
 
 
-@pytest.fixture(scope="module")
-def converged_sag():
-    """The clipped 64-cell denim sheet's sag by xpbd at 40 substeps of 20 passes."""
-    return sag_error(64, "xpbd", 40, 20)[0]
-
-
-def test_hpbd_hangs_the_sheet_where_converged_xpbd_does_in_fewer_passes(converged_sag):
-    """At 10 substeps of 10 passes xpbd's sheet hangs 1.3 % too low (the tension of a 64-cell
-    sheet is not through its passes); hpbd's within 0.1 %, and its solve error is lower."""
-    fast, fast_sim = sag_error(64, "hpbd", 10, 10)
-    plain, plain_sim = sag_error(64, "xpbd", 10, 10)
-    assert abs(fast / converged_sag - 1) < 1e-3
-    assert abs(plain / converged_sag - 1) > 5e-3
+@pytest.mark.parametrize("cells", [48, pytest.param(64, marks=pytest.mark.slow)])
+def test_hpbd_hangs_the_sheet_where_converged_xpbd_does_in_fewer_passes(cells):
+    """At 10 substeps of 10 passes xpbd's sheet hangs too low (0.7 % at 48 cells, 1.3 % at
+    64: the tension of a fine sheet is not through its passes); hpbd's within 0.1 % of xpbd
+    at 40 substeps of 20 passes, and its solve error is lower."""
+    converged = sag_error(cells, "xpbd", 40, 20)[0]
+    fast, fast_sim = sag_error(cells, "hpbd", 10, 10)
+    plain, plain_sim = sag_error(cells, "xpbd", 10, 10)
+    assert abs(fast / converged - 1) < 1e-3
+    assert abs(plain / converged - 1) > 5e-3
     assert fast_sim._solve_error() < 0.5 * plain_sim._solve_error()
 
 
