@@ -1,7 +1,7 @@
-"""Says so while numba compiles kernels, which only the first run after an install does (its
-cache then holds them): without a word, a first `cloth-tui render` sat ~50 s before its
-progress bar. numba announces each real compilation (a "numba:compile" event; a kernel
-loaded from the cache sends none), so a run that loads them all says nothing."""
+"""Says so while numba compiles kernels, which only the first run after an install does (its cache
+then holds them): without a word, a first `cloth-tui render` would sit silent for the best part
+of a minute before its progress bar. numba announces each real compilation (a "numba:compile"
+event; a kernel loaded from the cache sends none), so a run that loads them all says nothing."""
 
 from __future__ import annotations
 

@@ -55,7 +55,7 @@ def cast_shadow(positions, index, floor_height, fog_scale, colour, fog, textured
     """The coarse copy's particles (`index` into `positions`) projected onto the floor into
     `points` (the mesh's float32 array) and their colours into `rgba`, fogged by distance
     from the centre: untextured, `colour` fading into `fog`; textured, black fading out.
-    One pass in place: as NumPy it took ~0.3 ms a frame, mostly per-call overhead."""
+    One pass in place: as NumPy array expressions the per-call overhead would dominate."""
     for j in range(index.shape[0]):
         for k in range(3):
             scratch[j, k] = positions[index[j], k]

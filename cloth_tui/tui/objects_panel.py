@@ -100,7 +100,7 @@ class ObjectsPanel(Vertical):
             self.call_later(self._recompose_keeping_focus)
             return
         # Only the values that changed (an edit changes one): showing every field of every
-        # row held the UI thread ~0.5 ms an edit. None changed: all, so that a field typed
+        # row would hold the UI thread for each. None changed: all, so that a field typed
         # as "0.50" shows its canonical "0.5".
         some_changed = before != objects
         for i, obj in enumerate(objects):
