@@ -80,9 +80,12 @@ def test_installed_wheel_reads_its_fabric_table(wheel, tmp_path):
     assert module.startswith(str(site)) and float(density) == 0.324
 
 
+@pytest.mark.slow
 def test_installed_wheel_serves_the_app_outside_the_checkout(wheel, tmp_path):
     """`cloth-tui serve` from the wheel (its extra, textual-serve, is installed here): a
-    visitor, as a page connects, gets the wheel's app drawing its status line."""
+    visitor, as a page connects, gets the wheel's app drawing its status line. Slow: the
+    wheel's kernels compile afresh (numba's cache is keyed by the source's path), and
+    .ci/run makes the same visit to the same command from a wheel pip installed."""
     import asyncio
 
     from .serving import free_port, interrupt, start_server
