@@ -14,6 +14,18 @@ def run(*args):
     return p.returncode, p.stdout, p.stderr
 
 
+def run_refused(capsys, *args):
+    """`args` through main() in this process, for a command that must refuse them before it
+    does anything (a process costs a second of imports and kernel loading); the app, which
+    would take over the terminal if it did not refuse, in its own process."""
+    if args[0] not in ("simulate", "render"):
+        return run(*args)
+    capsys.readouterr()
+    rc = main(list(args))
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
 def test_simulate_default_reports_finite_sheet():
     rc, out, err = run("simulate", "default", "--frames", "120", "--json")
     assert rc == 0, err
@@ -155,13 +167,13 @@ BAD_SCENES = {
 
 @pytest.mark.parametrize("command", ["app", "simulate", "render"])
 @pytest.mark.parametrize("case", sorted(BAD_SCENES))
-def test_every_command_refuses_bad_scenes_with_one_line(tmp_path, command, case):
+def test_every_command_refuses_bad_scenes_with_one_line(tmp_path, capsys, command, case):
     path = tmp_path / "bad.toml"
     data = BAD_SCENES[case]
     path.write_bytes(data if isinstance(data, bytes) else data.encode())
     args = {"app": [str(path)], "simulate": ["simulate", str(path)],
             "render": ["render", str(path), "-o", str(tmp_path / "x.png")]}[command]
-    rc, out, err = run(*args)
+    rc, out, err = run_refused(capsys, *args)
     assert rc == 2, (rc, err)
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
@@ -169,10 +181,10 @@ def test_every_command_refuses_bad_scenes_with_one_line(tmp_path, command, case)
 @pytest.mark.parametrize("command", ["app", "simulate", "render"])
 @pytest.mark.parametrize("override", ["cloth.size", "nosection=1", "cloth.nope=1",
                                       "cloth.resolution=2.5", "forces.wind=maybe"])
-def test_every_command_refuses_malformed_set(tmp_path, command, override):
+def test_every_command_refuses_malformed_set(tmp_path, capsys, command, override):
     args = {"app": ["default"], "simulate": ["simulate", "default"],
             "render": ["render", "default", "-o", str(tmp_path / "x.png")]}[command]
-    rc, out, err = run(*args, "--set", override)
+    rc, out, err = run_refused(capsys, *args, "--set", override)
     assert rc == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
