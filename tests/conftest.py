@@ -8,6 +8,13 @@ import pytest
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
+def pytest_collection_modifyitems(config, items):
+    """The tests marked `heavy` first, the rest in their order: the workers take tests in
+    this order, so the long ones start together and the short ones fill in after them,
+    rather than one long test running alone at the end."""
+    items.sort(key=lambda item: item.get_closest_marker("heavy") is None)
+
+
 @pytest.fixture(scope="session", autouse=True)
 def kernels_compiled(tmp_path_factory):
     """Each test process compiles (or loads from numba's cache) the kernels of a render before

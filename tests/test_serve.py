@@ -61,6 +61,7 @@ def _pixels(png: bytes, box: tuple[int, int, int, int]) -> bytes:
     return Image.open(io.BytesIO(png)).convert("RGB").crop(box).tobytes()
 
 
+@pytest.mark.heavy
 @needs_browser
 def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screenshot(tmp_path):
     port = free_port()

@@ -27,6 +27,7 @@ def renderer_starts() -> bool:
                           timeout=120).returncode == 0
 
 
+@pytest.mark.heavy
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads RSS from /proc")
 def test_the_running_app_does_not_grow_after_warm_up(tmp_path):
     pytest.importorskip("cloth_tui.render.renderer")

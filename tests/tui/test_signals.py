@@ -78,6 +78,7 @@ def test_signal_while_recording_finishes_video_and_restores_terminal(tmp_path, s
     assert b"\x1b[?25h" in tail, "cursor left hidden"
 
 
+@pytest.mark.heavy
 def test_sighup_from_a_terminal_that_stopped_reading_still_ends_the_app(tmp_path):
     """A killed terminal window: it stops reading (the pseudo-terminal's buffer fills and
     Textual's output queue with it), then SIGHUP comes and the terminal is gone. Textual's own

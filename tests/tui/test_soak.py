@@ -113,6 +113,7 @@ def soak(tmp_path, monkeypatch, actions: int, seed: int = 7) -> None:
     run(go())
 
 
+@pytest.mark.heavy
 def test_soak_short(tmp_path, monkeypatch):
     soak(tmp_path, monkeypatch, actions=300)
 

@@ -23,6 +23,7 @@ def without_timings(v):
     return v
 
 
+@pytest.mark.heavy
 def test_a_small_study_on_two_workers_equals_the_serial_one():
     from cloth_tui.bench.accuracy_cli import _run_on_dask
     cfg = dataclasses.replace(

@@ -94,6 +94,7 @@ def sag_error(cells, solver, substeps, iterations):
     return 1.0 - centre_height(sim), sim
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize("cells", [48, pytest.param(64, marks=pytest.mark.slow)])
 def test_hpbd_hangs_the_sheet_where_converged_xpbd_does_in_fewer_passes(cells):
     """At 10 substeps of 10 passes xpbd's sheet hangs too low (0.7 % at 48 cells, 1.3 % at
