@@ -56,10 +56,18 @@ def with_download_links(page: str) -> str:
     return page.replace("</head>", DOWNLOAD_BY_LINK + "</head>", 1)
 
 
+# Screen updates a second an app sends its page (textual-serve asks 60). A page's terminal
+# parses every update of the half-block picture; on a busy machine it fell behind a stream of
+# 60, and then its own frames (keys, the heartbeat's replies) no longer reached the server.
+PAGE_UPDATES_PER_S = 30
+
+
 def app_environment(debug: bool, width: int = 80, height: int = 24) -> dict[str, str]:
     """The environment textual-serve gives an app process (its web driver, its colours),
     also for a spare, started before its page's size is known."""
-    return AppService._build_environment(SimpleNamespace(debug=debug), width, height)
+    env = AppService._build_environment(SimpleNamespace(debug=debug), width, height)
+    env["TEXTUAL_FPS"] = str(PAGE_UPDATES_PER_S)
+    return env
 
 
 class Spare:
