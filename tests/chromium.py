@@ -143,6 +143,12 @@ class Chromium:
                     out += base64.b64decode(frame["payloadData"])
         return bytes(out)
 
+    def sent(self) -> list[str]:
+        """The text frames the page's websockets sent (a terminal's keys: ["stdin", …])."""
+        return [e["params"]["response"]["payloadData"] for e in self.events
+                if e.get("method") == "Network.webSocketFrameSent"
+                and e["params"]["response"]["opcode"] == 1]
+
     async def focus_terminal(self) -> bool:
         """Focus the page's terminal, as a click on it does, so that keys reach the app;
         whether it then has the focus."""

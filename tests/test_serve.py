@@ -69,8 +69,12 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
     downloads.mkdir()
 
     async def go():
+        # the apps' debug log (keys as they come, actions, frames): told on a timeout below
+        debug_log = tmp_path / "debug.log"
+        env = dict(os.environ, CLOTH_TUI_DEBUG_LOG=str(debug_log))
         server, said = await start_server(tmp_path, "default", "--port", str(port),
-                                          "--captures", str(captures), until=SPARE_READY)
+                                          "--captures", str(captures), until=SPARE_READY,
+                                          env=env)
         assert f"http://localhost:{port}" in said[0] and "localhost only" in said[1]
         browser = await Chromium.start(BROWSER, tmp_path / "profile", size=(1600, 1000))
         try:
@@ -107,9 +111,14 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
             except AssertionError as e:  # the status line as it was, for the next look
                 text = screen()
                 at = text.rfind("fps")
+                told = debug_log.read_text(errors="replace") if debug_log.exists() else ""
+                keys = [line for line in told.splitlines()
+                        if " key " in line or " event " in line]
                 raise AssertionError(f"{e}; the terminal's last status text: "
                                      f"{text[max(0, at - 200):at + 200]!r}; focused in the page: "
-                                     f"{await browser.focused_element()}") from None
+                                     f"{await browser.focused_element()}; the apps' keys: "
+                                     f"{keys[-20:]}; the page sent: "
+                                     f"{browser.sent()[-8:]}") from None
             await asyncio.sleep(1.0)  # the last frame's full statistics drawn
             before = ENERGY.findall(screen())[-1]
             await asyncio.sleep(1.0)
@@ -358,6 +367,13 @@ def test_without_the_extra_serve_says_how_to_install_it(tmp_path):
     assert p.returncode == 2
     assert p.stderr.strip() == ("cloth-tui: error: serve needs the [serve] extra "
                                 "(textual-serve): pip install 'cloth-tui[serve]'")
+
+
+def test_an_app_sends_its_page_at_most_thirty_updates_a_second():
+    from cloth_tui.serve_apps import PAGE_UPDATES_PER_S, app_environment
+    env = app_environment(debug=False, width=120, height=40)
+    assert PAGE_UPDATES_PER_S == 30 and env["TEXTUAL_FPS"] == "30"
+    assert env["TEXTUAL_DRIVER"].endswith("WebDriver") and env["COLUMNS"] == "120"
 
 
 def test_only_loopback_hosts_are_called_local():

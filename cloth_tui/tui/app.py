@@ -307,6 +307,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self._start_when_shown = False  # the user's choice, from now on
         if self.sim is not None:
             self.sim.pause(not self.sim.paused)
+            self._log_key(f"pause {self.sim.paused}")
         self._refresh_status()
 
     def action_one_thread(self) -> None:

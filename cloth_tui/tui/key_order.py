@@ -19,6 +19,7 @@ until that is settled (see `release_keys`)."""
 from __future__ import annotations
 
 from collections import deque
+from typing import Callable
 
 from textual import events
 from textual.timer import Timer
@@ -33,14 +34,22 @@ HOLD_AT_MOST_S = 5.0
 
 
 class KeyOrder:
-    """A mixin of the App (before `App` in the bases): `on_event` routes the keys."""
+    """A mixin of the App (before `App` in the bases): `on_event` routes the keys. Uses the
+    app's `debug_line`: each key, as it comes, goes to the debug log."""
 
     _held_keys: deque[events.Key] | None = None
     _holding = False
     _hold_timer: Timer | None = None
+    debug_line: Callable[[str], None]
 
     async def on_event(self, event: events.Event) -> None:
+        if isinstance(event, (events.AppFocus, events.AppBlur, events.Resize)):
+            self.debug_line(f"event {type(event).__name__}")
         if isinstance(event, events.Key) and not event.is_forwarded:
+            focused = self.focused
+            self.debug_line(f"key in {event.key} focused "
+                            f"{type(focused).__name__ if focused is not None else None}"
+                            f"{' held' if self._holding or self._held_keys else ''}")
             if self._holding or self._held_keys:
                 if self._held_keys is None:
                     self._held_keys = deque()
