@@ -98,7 +98,7 @@ def test_the_app_in_a_browser_shows_the_cloth_takes_keys_and_downloads_a_screens
 
             # paused, the status line changes only when the sheet is moved
             since_key = len(screen())
-            # focused again before the key: the page may have moved its focus meanwhile
+            # focused again right before the key, as a user clicks the terminal first
             assert await browser.focus_terminal()
             await browser.press("space")
             # the status line says PAUSED at the key; frames already in flight (a loaded

@@ -71,8 +71,8 @@ def max_stretch(x, edges, rest, alive) -> float:
 @kernel(fastmath=False)
 def all_finite(x, v) -> bool:
     """Every position and velocity finite. One pass, no temporary arrays: the runner's check
-    of every frame (NumPy's isfinite(...).all() allocates two per-particle masks, a cost
-    the size of a small kernel's at every frame)."""
+    of every frame (NumPy's isfinite(...).all() would allocate two per-particle masks in
+    every frame)."""
     for i in range(x.shape[0]):
         for k in range(3):
             if not (math.isfinite(x[i, k]) and math.isfinite(v[i, k])):
