@@ -92,6 +92,12 @@ def start_lines(host: str, port: int, captures_dir: Path) -> list[str]:
             "Press Ctrl+C to stop the server and every app."]
 
 
+# s between the server's pings to a page; a page that has not answered within half of it is
+# taken for gone and its app ended. A page behind on pictures answers a ping only when it
+# reaches it in the stream (textual-serve's 15 s closed busy pages' apps after 7.5 s).
+HEARTBEAT_S = 60.0
+
+
 def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
     import asyncio
     import logging
@@ -167,7 +173,7 @@ def make_server(command: str, host: str, port: int, captures_dir: Path) -> Any:
             """One visitor's app, from the page's connection until the app process has
             exited (not just closed its output): the count of running apps is true, and a
             page closed while its app starts up still ends that app."""
-            websocket = web.WebSocketResponse(heartbeat=15)
+            websocket = web.WebSocketResponse(heartbeat=HEARTBEAT_S)
             width = to_int(request.query.get("width", "80"), 80)
             height = to_int(request.query.get("height", "24"), 24)
             await websocket.prepare(request)
