@@ -184,6 +184,13 @@ def main(argv: list[str] | None = None) -> int:
             status = None
     except KeyboardInterrupt:
         status = None
+    except Exception:
+        # Ctrl+C that Python or a library turned into an error of its own where _run's own
+        # check cannot see it (Python 3.11 wraps it in a RuntimeError when it lands in a
+        # class body's __set_name__, as the parsers' modules load)
+        if not _interrupt_seen:
+            raise
+        status = None
     finally:
         sys.unraisablehook = unraisable_hook
         for again in _sent_again:

@@ -88,6 +88,27 @@ def test_ctrl_c_inside_a_librarys_callback_still_ends_the_command(tmp_path):
     assert (p.returncode, p.stderr) == (130, "cloth-tui: interrupted\n")
 
 
+# The same, but SIGINT lands in a dataclass field's __set_name__ as module `target` defines its
+# classes: Python 3.11 raises it as "RuntimeError: Error calling __set_name__ ..." (seen with
+# `scenes` under load, as the parsers load the lab's modules).
+CHILD_IN_SET_NAME = CHILD.replace("""if target == "<exit>":""", """import dataclasses
+plain_set_name = dataclasses.Field.__set_name__
+
+def tripping_set_name(field, owner, name):
+    if owner.__module__ == target:
+        dataclasses.Field.__set_name__ = plain_set_name
+        trip()
+    return plain_set_name(field, owner, name)
+
+dataclasses.Field.__set_name__ = tripping_set_name
+if target == "<exit>":""").replace("sys.meta_path.insert(0, Trip())", "pass")
+
+
+def test_ctrl_c_inside_a_class_bodys_set_name_still_ends_the_command(tmp_path):
+    p = run_tripped(tmp_path, "cloth_tui.lab.study", "scenes", child=CHILD_IN_SET_NAME)
+    assert (p.returncode, p.stderr) == (130, "cloth-tui: interrupted\n")
+
+
 def test_a_worker_given_the_commands_argv_keeps_pythons_handler():
     # multiprocessing gives a spawned worker its parent's sys.argv, not its command line
     code = ("import signal, sys; sys.argv = ['/usr/bin/cloth-tui']; import cloth_tui; "
