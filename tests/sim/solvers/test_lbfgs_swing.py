@@ -1,8 +1,8 @@
 """lbfgs's dynamics against the hanging chain: a 1 m denim strip without bending, hung from
 its top edge until still, then released from the chain's first mode. Its period is the
 chain's within 1 % once the substeps resolve the strip's stretch under its swing (8 of 4
-iterations: +0.10 %); at one substep of two (the default scene's, adaptive at τ = 0.05, which
-ran at 1.9 substeps) it is 3.8 % long, at a fixed 1 × 2 47 % (docs/physics.md, lbfgs)."""
+iterations: +0.32 %); at fewer the error is large and not monotonic in the substeps (docs/
+physics.md, lbfgs: +9.6 % at 2 × 2, −4.4 % at 4 × 2)."""
 
 import math
 
