@@ -159,7 +159,7 @@ register(SolverSpec(
                  "rk4")))
 register(SolverSpec(
     name="lbfgs",
-    summary="lbfgs (a material's implicit step by quasi-Newton with a prefactored matrix: "
-            "a fabric's equilibrium at a cost that grows with the sheet)",
+    summary="lbfgs (a material's implicit step by quasi-Newton from a constant matrix's "
+            "multigrid cycle: a fabric's equilibrium at a cost that grows with the sheet)",
     load=_in_folder("lbfgs.solver", "LBFGSSolver"), takes_material=True,
     solves_constraints=False, tethers=False, integrators=("implicit_euler", "bdf2")))

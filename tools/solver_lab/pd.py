@@ -1,5 +1,5 @@
 """Candidate: projective dynamics (Bouaziz et al. 2014) with Chebyshev acceleration (Wang
-2015) on the same prefactored matrix as lbfgs: each iteration projects every edge to its rest
+2015) on the same matrix P as lbfgs (factored here): each iteration projects every edge to its rest
 length and every shear cell's diagonals to their mean length (the local step), then solves
 P x = M y/h² + Σ w Aᵀp (the global step). Its energy is PD's: the shear cell as the distance
 of its diagonals from equal length (the same as the material's at small shear), the bending
@@ -12,8 +12,9 @@ from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
+from scipy.sparse.linalg import splu
 
-from cloth_tui.sim.solvers.lbfgs.step_matrix import factor, shear_weight, step_matrix
+from cloth_tui.sim.solvers.lbfgs.step_matrix import shear_weight, step_matrix
 
 
 class ChebyshevPD:
@@ -63,10 +64,10 @@ class ChebyshevPD:
             m = self.model
             fields = {k: getattr(m, k) for k in ("num_particles", "edges", "mass")}
             pd_model = SimpleNamespace(**fields, fabric=self.pd_fabric, inv_mass=m.inv_mass)
-            self.lu = factor(step_matrix(pd_model, self.k_edge, self.k_sten, h, 1.0))
+            self.lu = splu(step_matrix(pd_model, self.k_edge, self.k_sten, h).tocsc())
             everyone_free = SimpleNamespace(**fields, fabric=self.pd_fabric,
                                             inv_mass=np.ones(len(m.mass)))
-            full = step_matrix(everyone_free, self.k_edge, self.k_sten, h, 1.0).tocsr()
+            full = step_matrix(everyone_free, self.k_edge, self.k_sten, h).tocsr()
             fixed = m.inv_mass == 0
             self.coupling = full[:, fixed].tolil()
             self.coupling[np.flatnonzero(fixed), :] = 0.0

@@ -174,7 +174,7 @@ class NewtonStep(lbfgs.SolveImplicitStep):
             rows.append(np.broadcast_to((3 * p)[:, None, None] + axis[:, None], blocks.shape))
             cols.append(np.broadcast_to((3 * q)[:, None, None] + axis[None, :], blocks.shape))
             vals.append(sign * blocks)
-        rest = matrices.step_matrix(m, np.zeros_like(self.k_edge), self.k_sten, h, 1.0).tocoo()
+        rest = matrices.step_matrix(m, np.zeros_like(self.k_edge), self.k_sten, h).tocoo()
         for k in range(3):
             rows.append(3 * rest.row + k)
             cols.append(3 * rest.col + k)
@@ -246,15 +246,15 @@ def gap_rows(cells: int):
           "distance from the converged run")
     for iterations in (2, 4, 8):
         row(f"lbfgs, {iterations} iterations", simulation(cells, 1, iterations))
-    plain = matrices.step_matrix
+    plain = matrices.stiffness_matrix
     for beta in (0.3, 0.1):
-        matrices.step_matrix = lambda m, k, ks, h, th, beta=beta: plain(m, beta * k, ks, h, th)
+        matrices.stiffness_matrix = lambda m, k, ks, beta=beta: plain(m, beta * k, ks)
         try:
             for iterations in (2, 8):
                 row(f"lbfgs, P's edges x {beta}, {iterations} iterations",
                     simulation(cells, 1, iterations))
         finally:
-            matrices.step_matrix = plain
+            matrices.stiffness_matrix = plain
     for iterations, sweeps in ((2, 1), (2, 2), (4, 1)):
         sim = simulation(cells, 1, iterations)
         put_after_solve(sim, VertexSweeps(sim.step.solver.projection, sweeps))

@@ -24,8 +24,8 @@ def worst_error(sim: Simulation, frames: int) -> float:
 
 
 def test_the_solve_error_falls_as_the_substeps_shorten():
-    """Measured on the falling sheet at 16 cells, 2 iterations: 0.034 / 0.016 / 0.0086 /
-    0.0017 at 1 / 2 / 4 / 8 substeps."""
+    """Measured on the falling sheet at 16 cells, 2 iterations, the worst of 60 frames:
+    0.11 / 0.037 / 0.017 / 0.0045 at 1 / 2 / 4 / 8 substeps."""
     errors = [worst_error(clipped_denim(16, **{"behavior.substeps": n,
                                                "behavior.iterations": 2,
                                                "behavior.adaptive": False}), 40)
@@ -77,14 +77,16 @@ def test_an_energy_tolerance_of_5_percent_keeps_an_undamped_drop_within_5_percen
 
 
 def test_without_an_energy_tolerance_the_step_is_implicit_euler_at_the_scenes_substeps():
+    """Nothing raises the substeps for the energy lost: at most the solve error asks for a
+    second now and then (the run with an energy tolerance above takes tens)."""
     lost, used, _ = undamped_drop()
-    assert set(used) == {1}  # the solve error of a drop at 8 cells is within the default
+    assert max(used) <= 2
     assert lost > 0.3
 
 
 def test_at_the_default_scenes_settings_a_32_cell_sheet_hangs_within_1_percent():
     """1 substep of 2 iterations, adaptive at the default tolerance, against 4 substeps of
-    20 (measured after 4 s: +0.31 % at 32 cells, +0.14 % at 16)."""
+    20 (measured after 4 s: +0.25 % at 32 cells, −0.01 % at 16)."""
     from ..fabric.clipped_sheets import TYPED_DENIM, centre_height, clipped_sheet
 
     def sag(substeps: int, iterations: int, adaptive: bool) -> float:
@@ -126,19 +128,22 @@ def test_with_bdf2_a_moving_pin_keeps_the_speed_it_is_driven_at():
     assert np.allclose(sim.state.v[moving], [0.6, 0.0, 0.0])
 
 
-def test_a_step_made_again_at_a_substep_count_it_had_finds_its_factor(monkeypatch):
-    """The control moves between substep counts and each change builds a new step: going
-    back to a count factors nothing again."""
+def test_a_sheet_builds_its_v_cycle_once_whatever_the_substep_counts(monkeypatch):
+    """The control moves between substep counts and each change builds a new step: a new
+    substep length only adds M/h² again, and going back to a count builds nothing."""
     from cloth_tui.sim.solvers.lbfgs import step_matrix
 
-    made = []
-    factor = step_matrix.factor
-    monkeypatch.setattr(step_matrix, "factor", lambda matrix: made.append(1) or factor(matrix))
+    built = []
+    cycle = step_matrix.StepMultigrid
+    monkeypatch.setattr(step_matrix, "StepMultigrid",
+                        lambda *args: built.append(1) or cycle(*args))
     sim = clipped_denim(8, **{"behavior.substeps": 1, "behavior.adaptive": False})
-    for substeps in (1, 2, 1, 2):
+    frame = 1.0 / sim.scene.behavior.frame_rate
+    for substeps in (1, 2, 1, 3):
         sim.set_scene(sim.scene.with_values({"behavior.substeps": substeps}))
         sim.advance_frame()
-    assert len(made) == 2
+        assert sim.step.solver.projection._p_inverse.h == pytest.approx(frame / substeps)
+    assert len(built) == 1
 
 
 def test_bdf2_is_lbfgss_when_asked_for_and_no_other_solvers():

@@ -1,5 +1,6 @@
 """lbfgs: each substep's implicit step, solved as the minimum of its objective
-(step_energy.py) by L-BFGS preconditioned with a prefactored matrix (step_matrix.py).
+(step_energy.py) by L-BFGS preconditioned with a constant matrix P (step_matrix.py), whose
+inverse one multigrid V-cycle stands for (multigrid.py).
 
 One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and pins):
     integrate    the force effects add to state.accel; integrate_verlet predicts
@@ -7,7 +8,7 @@ One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and 
                  predict_bdf2 its y over a step of h' = 2h/3
     solve        from x = y, `iterations` L-BFGS steps on Φ(x) = |x − y|²_M/(2h'²) + E(x):
                  d = −H g (two loops over the last HISTORY pairs, H₀ = P⁻¹, the pairs kept
-                 from substep to substep until P is refactored or a direction fails to
+                 from substep to substep until P changes or a direction fails to
                  descend), x += t·d with t halved until Φ falls enough (Armijo); each
                  edge's λ then holds its force
     velocities   update_velocities: v ← (x − x_prev)/h (BDF2: v ← (x − x̂)/h')
@@ -19,9 +20,10 @@ measures both on an undamped sheet). BDF2, which damps what the substeps resolve
 is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
 damping (behavior.energy_tolerance).
 
-The frame's solve error (`LBFGSSolver.solve_error`, which the accuracy control bounds) is the
-last iteration's largest move over the shortest rest length: λ here is the solved step's
-force, so xpbd's error |C + α̃λ| would read zero whatever the solve.
+The frame's solve error (`LBFGSSolver.solve_error`, which the accuracy control bounds) is how
+far the solve still had to go when it stopped (`SolveImplicitStep.distance_left`) over the
+shortest rest length: λ here is the solved step's force, so xpbd's error |C + α̃λ| would
+read zero whatever the solve.
 """
 
 from __future__ import annotations
@@ -41,16 +43,16 @@ from .step_energy import (
     step_to,
 )
 from .bdf2 import STEP_SHARE, PredictBDF2, VelocitiesBDF2
-from .step_matrix import kept_factor
+from .step_matrix import kept_preconditioner
 
 HISTORY = 5        # L-BFGS pairs kept: more buys little once P carries the low frequencies
 ARMIJO = 1e-4      # sufficient decrease of a line search step
 HALVINGS = 8       # a step halved this often without enough decrease ends the substep's solve
 # The pairs carry on into the next substep (the objective's Hessian changes little between
 # them): what P misses, the sheet's turning against its stiff springs, is learnt over
-# several substeps instead of anew in each one's few iterations.
-KEEP_HISTORY = True
-REFACTOR_AFTER_TEAR = 30  # substeps between refactorings while the sheet tears
+# several substeps instead of anew in each one's few iterations (without them a swinging
+# strip's swing dies at the default settings: docs/physics.md).
+REBUILD_AFTER_TEAR = 30  # substeps between rebuilding P while the sheet tears
 
 
 def bdf2_for(behavior) -> bool:
@@ -70,14 +72,15 @@ class SolveImplicitStep:
         self.iterations = iterations
         self.step_share = step_share  # the implicit step's length over the substep's
         self._last_step = None  # the last iteration's move (or the one it could not take)
+        self._beyond = 0.0  # how much farther its line's minimum lies, in moves
         self._h = None
-        self._lu = None
+        self._p_inverse = None
         self.lambdas = np.zeros(model.num_constraints)
         self.set_model(model, compliance)
 
     def set_model(self, model, compliance: float) -> None:
         """Take `model`'s masses and material (or, without one, α = `compliance` on every
-        edge); the factor is made anew at the next substep."""
+        edge); P is made anew at the next substep."""
         self.model = model
         f = model.fabric
         n = model.num_particles
@@ -113,30 +116,32 @@ class SolveImplicitStep:
         self._yv = np.zeros((n, 3))
         self._rho = np.zeros(HISTORY)
         self._alphas = np.zeros(HISTORY)
-        self._h = None  # refactor
+        self._h = None  # P for the next substep
         self._count = 0
         self._order = np.zeros(HISTORY, np.int64)
-        self._torn_factored = 0
-        self._since_factor = 0
+        self._torn_built = 0
+        self._since_built = 0
 
     def _prepare(self, state, h: float) -> None:
         m = self.model
         held_now = (m.inv_mass == 0).astype(np.uint8)
-        torn_changed = state.torn != self._torn_factored
+        torn_changed = state.torn != self._torn_built
         if torn_changed:
             self._mask_torn(state.alive)
         stale = (self._h != h or not np.array_equal(held_now, self.fixed)
-                 or (torn_changed and self._since_factor >= REFACTOR_AFTER_TEAR))
-        self._since_factor += 1
+                 or (torn_changed and self._since_built >= REBUILD_AFTER_TEAR))
+        self._since_built += 1
         if not stale:
+            # (the V-cycle is shared with any other step of this sheet and stiffness)
+            self._p_inverse.set_step(h)
             return
         self.fixed = held_now
         self._h = h
         self._count = 0
         self.mass_h2 = np.ascontiguousarray(m.mass / (h * h))
-        self._lu = kept_factor(m, self.k_edge * state.alive, self.k_sten, h)
-        self._torn_factored = state.torn
-        self._since_factor = 0
+        self._p_inverse = kept_preconditioner(m, self.k_edge * state.alive, self.k_sten, h)
+        self._torn_built = state.torn
+        self._since_built = 0
 
     def _mask_torn(self, alive: np.ndarray) -> None:
         """A cell or stencil across a torn edge leaves the energy with it."""
@@ -171,16 +176,18 @@ class SolveImplicitStep:
         phi = self.objective(x, y, alive, g, True)
         count, order = self._count, self._order
         last = None
+        beyond = 0.0
         for _ in range(self.iterations):
+            beyond = 0.0
             q = g.copy()
             first_loop(q, self._s, self._yh, self._rho, order, count, self._alphas)
-            d = self._lu.solve(q)
+            d = self._p_inverse.solve(q)
             second_loop(d, self._s, self._yh, self._rho, order, count, self._alphas,
                         self.fixed)
             slope = dot(g, d)
             if not slope < 0.0:  # not a descent direction (or NaN): restart from P⁻¹ alone
                 count = 0
-                d = -self._lu.solve(g)
+                d = -self._p_inverse.solve(g)
                 d[self.fixed.astype(bool)] = 0.0
                 slope = dot(g, d)
                 if not slope < 0.0:
@@ -200,6 +207,9 @@ class SolveImplicitStep:
             last = self._sv
             np.subtract(g_new, g, out=self._yv)
             sy = dot(self._sv, self._yv)
+            # where the minimum along this move's line lies by the secant of Φ's slope on it,
+            # in moves beyond where the move ended: about 0 where it found that minimum
+            beyond = max(0.0, -dot(g_new, self._sv) / sy) if sy > 0.0 else 0.0
             if sy > 0.0:  # curvature seen: keep the pair (else the history stays as it is)
                 if count < HISTORY:
                     slot = count
@@ -216,20 +226,23 @@ class SolveImplicitStep:
             phi = phi_new
         self._g, self._g_new = g, g_new
         self._last_step = last
-        self._count = count if KEEP_HISTORY else 0
+        self._beyond = beyond
+        self._count = count
         m = self.model
         # in the substep's own h²: the tearing stage reads λ/h² with it
         edge_multipliers(x, m.edges, m.rest_length, self.k_edge, alive, substep * substep,
                          self.lambdas)
 
-    def last_move(self) -> float:
+    def distance_left(self) -> float:
         """m: the largest move of a particle in the last substep's last iteration (where its
-        line search found no decrease, the move it asked for): how far the solve still
-        travelled when it stopped, the step-size measure of an iteration's convergence."""
+        line search found no decrease, the move it asked for), times 1 + how many such moves
+        farther on the minimum along the move's line lies (`_beyond`). A solve that stalls,
+        its moves short where P resists the sheet's turning, moves little but has that
+        minimum far ahead: the move alone read it as converged."""
         last = self._last_step
         if last is None:
             return 0.0
-        return float(np.sqrt(np.einsum("ij,ij->i", last, last)).max())
+        return float(np.sqrt(np.einsum("ij,ij->i", last, last)).max()) * (1.0 + self._beyond)
 
 
 class LBFGSSolver(SolverBase):
@@ -285,9 +298,9 @@ class LBFGSSolver(SolverBase):
         return self.projection.elastic_energy(state.x, state.alive)
 
     def solve_error(self, state) -> float:
-        """The last iteration's largest move (SolveImplicitStep.last_move) as a share of the
-        shortest rest length: how far the solve still travelled when it stopped."""
-        return self.projection.last_move() / self._shortest_rest
+        """How far the solve still had to go when it stopped
+        (SolveImplicitStep.distance_left) as a share of the shortest rest length."""
+        return self.projection.distance_left() / self._shortest_rest
 
     @property
     def _shortest_rest(self) -> float:

@@ -1,18 +1,13 @@
-"""The constant matrix P = M/h² + θ·(Σ_edges k_e A_eᵀA_e + Σ_cells w_c (diagonals) + Q_B), one
-N×N matrix for x, y and z alike, factored once per substep length and pin set (and kept for a
-step made again with the same: `kept_factor`).
+"""The constant matrix P = M/h² + Σ_edges k_e A_eᵀA_e + Σ_cells w_c (diagonals) + Q_B, one
+N×N matrix for x, y and z alike, and the V-cycle that stands for its inverse (multigrid.py),
+made once per pin set and stiffness and kept for a step made again with the same
+(`kept_preconditioner`); a new substep length h only adds M/h² again.
 
 It is the Hessian of the step's objective (step_energy.py) with every edge held at its rest
 length and no geometric stiffness: exact for the bending energy (linear stencils: Q_B is its
 Hessian), the stretch and shear as springs along their lines. L-BFGS
 starts each step from P⁻¹ and learns what it misses (the sheet's turning) from its
-gradients. A held particle's row and column are the identity, so it never moves.
-
-Factored by SciPy's SuperLU with a minimum-degree ordering of AᵀA + A: on a grid its fill
-grows as N log N, and so does a solve. The factor is single precision: P⁻¹ is only where
-L-BFGS starts (the objective, its gradient and the line search stay in double, so the step
-still ends at the same minimum), and a solve is bound by reading the factor, half the bytes
-in single precision."""
+gradients. A held particle's row and column are the identity, so it never moves."""
 
 from __future__ import annotations
 
@@ -20,11 +15,13 @@ import weakref
 
 import numpy as np
 
-# Factors kept for steps made again: the accuracy control moves a sheet between two substep
-# counts, and each change builds a new step (a large sheet's factor is a visible pause to
-# make and tens of MB to keep).
-FACTORS_KEPT = 2
-_kept: list = []  # (model's weak reference, the matrix's inputs, factor), the latest last
+from .multigrid import StepMultigrid
+
+# V-cycles kept for steps made again: the accuracy control and the guard build a new step at
+# each change of the substeps, and a frame redone from before a tear goes back to the
+# stiffness it had (a large sheet's coarse grids take a visible moment to make).
+KEPT = 2
+_kept: list = []  # (model's weak reference, the stiffness's inputs, V-cycle), the latest last
 
 
 def shear_weight(fabric) -> float:
@@ -35,9 +32,10 @@ def shear_weight(fabric) -> float:
     return 4 * scale * scale * (g.dx * g.dx + g.dz * g.dz) / fabric.cell_compliance
 
 
-def step_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float, theta: float):
-    """P as a SciPy CSC matrix (module docstring), for `model`'s held particles now;
-    `k_stencil` = 1/α_s per bending stencil (its rigidity × weight, by direction)."""
+def stiffness_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray):
+    """K = Σ_edges k_e A_eᵀA_e + Σ_cells w_c (diagonals) + Q_B as a SciPy CSR matrix, its
+    held particles' rows and columns empty; `k_stencil` = 1/α_s per bending stencil (its
+    rigidity × weight, by direction)."""
     import scipy.sparse as sp
 
     n = model.num_particles
@@ -59,45 +57,36 @@ def step_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float, thet
         vals.append((k_stencil[:, None, None] * c[:, :, None] * c[:, None, :]).ravel())
     r = np.concatenate(rows)
     c = np.concatenate(cols)
-    v = theta * np.concatenate(vals)
+    v = np.concatenate(vals)
     free = model.inv_mass > 0
     keep = free[r] & free[c]
+    return sp.coo_matrix((v[keep], (r[keep], c[keep])), shape=(n, n)).tocsr()
+
+
+def step_matrix(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float):
+    """P (module docstring) as a SciPy CSR matrix, for `model`'s held particles now."""
+    import scipy.sparse as sp
+
+    free = model.inv_mass > 0
     diag = np.where(free, model.mass / (h * h), 1.0)
-    everyone = np.arange(n)
-    return sp.coo_matrix((np.concatenate([v[keep], diag]),
-                          (np.concatenate([r[keep], everyone]),
-                           np.concatenate([c[keep], everyone]))), shape=(n, n)).tocsc()
+    return (stiffness_matrix(model, k_edge, k_stencil) + sp.diags(diag)).tocsr()
 
 
-class SinglePrecisionFactor:
-    """P's LU factors in single precision; `.solve(b)` takes and gives double (N, 3)."""
-
-    def __init__(self, matrix):
-        from scipy.sparse.linalg import splu
-        self._lu = splu(matrix.astype(np.float32), permc_spec="MMD_AT_PLUS_A",
-                        options={"SymmetricMode": True})
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        return self._lu.solve(b.astype(np.float32)).astype(np.float64)
-
-
-def factor(matrix) -> SinglePrecisionFactor:
-    """A solver for P: `.solve(b)` with b (N, 3)."""
-    return SinglePrecisionFactor(matrix)
-
-
-def kept_factor(model, k_edge: np.ndarray, k_stencil: np.ndarray, h: float):
-    """factor(step_matrix(...)) for `model`'s held particles now, the same object again
-    where one of the last FACTORS_KEPT was made from the same inputs."""
-    inputs = (h, (model.inv_mass == 0).tobytes(), k_edge.tobytes(), k_stencil.tobytes())
+def kept_preconditioner(model, k_edge: np.ndarray, k_stencil: np.ndarray,
+                        h: float) -> StepMultigrid:
+    """P⁻¹'s V-cycle (multigrid.py) for `model`'s held particles now and substeps of h, the
+    same object again where one of the last KEPT was made from the same stiffness."""
+    inputs = ((model.inv_mass == 0).tobytes(), k_edge.tobytes(), k_stencil.tobytes())
     _kept[:] = [entry for entry in _kept if entry[0]() is not None]  # (a sheet let go)
-    for entry in _kept:
-        ref, made_from, lu = entry
+    for i, (ref, made_from, cycle) in enumerate(_kept):
         if ref() is model and made_from == inputs:
-            _kept.remove(entry)
-            _kept.append(entry)
-            return lu
-    lu = factor(step_matrix(model, k_edge, k_stencil, h, 1.0))
-    _kept.append((weakref.ref(model), inputs, lu))
-    del _kept[:-FACTORS_KEPT]
-    return lu
+            # (moved by index: list.remove would compare the models, arrays and all)
+            _kept.append(_kept.pop(i))
+            break
+    else:
+        cycle = StepMultigrid(stiffness_matrix(model, k_edge, k_stencil), model.mass,
+                              model.inv_mass == 0, model.nx, model.nz)
+        _kept.append((weakref.ref(model), inputs, cycle))
+        del _kept[:-KEPT]
+    cycle.set_step(h)
+    return cycle

@@ -1,0 +1,136 @@
+"""lbfgs's V-cycle (multigrid.py) stands for P⁻¹: within a few per cent of it on the default
+fabric's sheet and on a strip, exact where the grid is small enough to solve directly,
+symmetric and positive (L-BFGS's H₀ must be), the same after a new substep length as made
+at it, and it never moves a held particle."""
+
+import numpy as np
+import pytest
+import scipy.sparse.linalg as sla
+
+from cloth_tui.bench.fabric_cost import clipped_fabric_scene
+from cloth_tui.scene import Scene
+from cloth_tui.sim.run.runner import Simulation
+from cloth_tui.sim.solvers.lbfgs.multigrid import COARSEST, StepMultigrid
+from cloth_tui.sim.solvers.lbfgs.step_matrix import stiffness_matrix, step_matrix
+
+H = 1.0 / 120
+
+
+def lbfgs_model(scene: Scene):
+    sim = Simulation(scene.with_values({"behavior.solver": "lbfgs"}))
+    return sim.model, sim.step.solver.projection
+
+
+def denim_sheet(cells: int):
+    return lbfgs_model(clipped_fabric_scene(cells, {"material": {"preset": "denim"}}))
+
+
+def denim_strip():
+    """A 3 × 401 strip held at one short end: too narrow to coarsen across, long enough to
+    coarsen along."""
+    return lbfgs_model(Scene().with_values({
+        "cloth.size": [0.01, 2.0], "cloth.resolution": [3, 401], "cloth.pinned": "one_edge",
+        "material": {"preset": "denim"}}))
+
+
+def v_cycle(model, projection, h: float = H) -> StepMultigrid:
+    cycle = StepMultigrid(stiffness_matrix(model, projection.k_edge, projection.k_sten),
+                          model.mass, model.inv_mass == 0, model.nx, model.nz)
+    cycle.set_step(h)
+    return cycle
+
+
+def exact(model, projection, b, h: float = H):
+    return sla.spsolve(step_matrix(model, projection.k_edge, projection.k_sten, h).tocsc(), b)
+
+
+def relative_error(approx, reference) -> float:
+    return float(np.linalg.norm(approx - reference) / np.linalg.norm(reference))
+
+
+def loads(model):
+    """A rough load (random) and a smooth one (one sine along each axis), zero where held."""
+    rng = np.random.default_rng(7)
+    rough = rng.standard_normal((model.num_particles, 3))
+    u = np.linspace(0.0, 1.0, model.nx)[None, :] * np.ones((model.nz, 1))
+    w = np.linspace(0.0, 1.0, model.nz)[:, None] * np.ones((1, model.nx))
+    smooth = np.stack([np.sin(np.pi * u), np.sin(np.pi * w), u * w], axis=-1).reshape(-1, 3)
+    for b in (rough, smooth):
+        b[model.inv_mass == 0] = 0.0
+    return rough, smooth
+
+
+@pytest.fixture(scope="module")
+def sheet64():
+    model, projection = denim_sheet(64)
+    return model, projection, v_cycle(model, projection)
+
+
+def test_one_cycle_is_within_a_few_percent_of_p_inverse_on_the_default_fabric(sheet64):
+    model, projection, cycle = sheet64
+    assert len(cycle.levels) >= 3  # it does coarsen: 65² particles, then 33², 17²
+    for b in loads(model):
+        assert relative_error(cycle.solve(b), exact(model, projection, b)) < 0.05
+
+
+def test_a_strip_coarsens_along_its_length_only_and_stays_close():
+    model, projection = denim_strip()
+    cycle = v_cycle(model, projection)
+    assert model.nx == 3 and model.num_particles > COARSEST and len(cycle.levels) >= 2
+    for b in loads(model):
+        assert relative_error(cycle.solve(b), exact(model, projection, b)) < 0.05
+
+
+def test_a_grid_small_enough_is_solved_exactly():
+    model, projection = denim_sheet(16)
+    assert model.num_particles <= COARSEST
+    cycle = v_cycle(model, projection)
+    assert len(cycle.levels) == 1
+    for b in loads(model):
+        assert relative_error(cycle.solve(b), exact(model, projection, b)) < 1e-10
+
+
+def test_the_cycle_is_symmetric_and_positive(sheet64):
+    """L-BFGS's H₀ must be SPD, or its directions need not descend."""
+    model, _, cycle = sheet64
+    rng = np.random.default_rng(11)
+    u, v = (rng.standard_normal((model.num_particles, 3)) for _ in range(2))
+    uv, vu = np.sum(u * cycle.solve(v)), np.sum(v * cycle.solve(u))
+    assert abs(uv - vu) <= 1e-10 * np.sqrt(np.sum(u * u) * np.sum(v * v))
+    for w in (u, v, u - v):
+        assert np.sum(w * cycle.solve(w)) > 0.0
+
+
+def test_a_new_substep_length_gives_the_cycle_made_at_it(sheet64):
+    model, projection, cycle = sheet64
+    b = loads(model)[0]
+    cycle.set_step(H / 3)
+    try:
+        again = cycle.solve(b)
+    finally:
+        cycle.set_step(H)
+    fresh = v_cycle(model, projection, H / 3).solve(b)
+    assert np.allclose(again, fresh, rtol=1e-12, atol=1e-15 * np.abs(fresh).max())
+    assert not np.allclose(again, cycle.solve(b))  # (the length does change the cycle)
+
+
+def test_a_held_particle_is_never_moved(sheet64):
+    model, _, cycle = sheet64
+    held = model.inv_mass == 0
+    assert held.any()
+    b = np.random.default_rng(5).standard_normal((model.num_particles, 3))
+    b[held] = 0.0
+    assert np.all(cycle.solve(b)[held] == 0.0)
+
+
+def test_two_sheets_alive_at_once_each_find_their_own_cycle():
+    """The kept cycles are told apart by the model itself (a dataclass whose == compares its
+    arrays: finding a cycle must not compare two models)."""
+    from cloth_tui.sim.solvers.lbfgs.step_matrix import kept_preconditioner
+
+    first, second = denim_sheet(16), denim_sheet(16)
+    made = {}
+    for model, projection in (first, second, second, first):  # (the latest is kept last)
+        cycle = kept_preconditioner(model, projection.k_edge, projection.k_sten, H)
+        assert made.setdefault(id(model), cycle) is cycle
+    assert made[id(first[0])] is not made[id(second[0])]
