@@ -64,7 +64,7 @@ def compare(cells: int) -> None:
                                      options={"SymmetricMode": True}))
     print(f"{cells:4d} cells: apply V-cycle {apply_cycle:6.2f} ms, LU {apply_lu:6.2f} ms; "
           f"new h: V-cycle {remake_cycle:6.1f} ms, LU {remake_lu:7.1f} ms; "
-          f"V-cycle from P⁻¹ {error:.3f} ({len(cycle.levels)} grids)", flush=True)
+          f"V-cycle from P⁻¹ {error:.3f} ({cycle.grids} grids)", flush=True)
 
 
 if __name__ == "__main__":

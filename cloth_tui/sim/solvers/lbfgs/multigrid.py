@@ -12,7 +12,11 @@ in 1/h², so each level keeps its stiffness and mass parts on one sparsity patte
 substep length only adds them again (`set_step`): the accuracy control changes h often. A
 held particle takes no correction from a coarse grid (its row of I is zero) and its row of
 P is the identity, so it never moves. The coarsest grid, at most COARSEST particles, is
-solved by a sparse LU factor.
+solved by a dense Cholesky factor.
+
+The whole cycle is one compiled call (`v_cycle`, every grid's arrays end to end) that holds
+no GIL: in the app the simulation thread shares the GIL with the UI and the renderer, and
+every return to Python between small steps waits for it.
 """
 
 from __future__ import annotations
@@ -81,6 +85,78 @@ def residual(indptr, indices, data, x, b, out):
         out[i, 2] = b[i, 2] - p2
 
 
+@kernel()
+def interpolate(indptr, indices, data, coarse, out, add):
+    """out (+)= I·coarse for I in CSR, three columns: a correction carried to the finer grid
+    (`add`), or with Iᵀ's rows a residual carried to the coarser one."""
+    for i in range(out.shape[0]):
+        p0, p1, p2 = row_times(indptr, indices, data, coarse, i)
+        if add:
+            out[i, 0] += p0
+            out[i, 1] += p1
+            out[i, 2] += p2
+        else:
+            out[i, 0] = p0
+            out[i, 1] = p1
+            out[i, 2] = p2
+
+
+@kernel()
+def cholesky_solve(chol, b, out):
+    """out = (L Lᵀ)⁻¹ b with L lower triangular (dense), three columns."""
+    n = chol.shape[0]
+    for i in range(n):  # L y = b
+        for c in range(3):
+            total = b[i, c]
+            for j in range(i):
+                total -= chol[i, j] * out[j, c]
+            out[i, c] = total / chol[i, i]
+    for i in range(n - 1, -1, -1):  # Lᵀ x = y
+        for c in range(3):
+            total = out[i, c]
+            for j in range(i + 1, n):
+                total -= chol[j, i] * out[j, c]
+            out[i, c] = total / chol[i, i]
+
+
+@kernel()
+def v_cycle(row_at, ptr, indices, data, inv_diag, i_ptr, i_indices, i_data, t_ptr,
+            t_indices, t_data, chol, b, x, rhs, correction, rest):
+    """x = one V(1,1)-cycle on b (module docstring), every grid in one call. Grid k's rows
+    are row_at[k]:row_at[k+1] of the work arrays (rhs, correction, rest) and of inv_diag; its
+    row pointers into indices/data start at ptr[row_at[k] + k], and likewise I's (i_ptr from
+    row_at[k] + k) and Iᵀ's, whose rows are grid k + 1's (t_ptr from
+    row_at[k + 1] − row_at[1] + k)."""
+    grids = row_at.shape[0] - 1
+    if grids == 1:
+        cholesky_solve(chol, b, x)
+        return
+    for k in range(grids):
+        lo, hi = row_at[k], row_at[k + 1]
+        if k > 0:
+            correction[lo:hi] = 0.0
+        if k == grids - 1:
+            cholesky_solve(chol, rhs[lo:hi], correction[lo:hi])
+            break
+        xk = x if k == 0 else correction[lo:hi]
+        bk = b if k == 0 else rhs[lo:hi]
+        rows = ptr[lo + k:hi + k + 1]
+        gauss_seidel_sweep(rows, indices, data, inv_diag[lo:hi], xk, bk, True)
+        residual(rows, indices, data, xk, bk, rest[lo:hi])
+        below = row_at[k + 2]
+        start = hi - row_at[1] + k  # Iᵀ's rows are grid k + 1's
+        interpolate(t_ptr[start:start + below - hi + 1], t_indices, t_data, rest[lo:hi],
+                    rhs[hi:below], False)
+    for k in range(grids - 2, -1, -1):
+        lo, hi = row_at[k], row_at[k + 1]
+        xk = x if k == 0 else correction[lo:hi]
+        bk = b if k == 0 else rhs[lo:hi]
+        interpolate(i_ptr[lo + k:hi + k + 1], i_indices, i_data,
+                    correction[hi:row_at[k + 2]], xk, True)
+        gauss_seidel_sweep(ptr[lo + k:hi + k + 1], indices, data, inv_diag[lo:hi], xk, bk,
+                           False)
+
+
 def interpolation_1d(n: int):
     """(I, coarse count): n points along a line from the coarse ones at the even indices
     (and the last, where it is odd), linear between two; the identity for n ≤ 3."""
@@ -118,20 +194,6 @@ class _Level:
         self.stiffness, self.mass = on_pattern(stiffness), on_pattern(mass)
         self.identity = on_pattern(identity)
         self.on_diagonal = np.flatnonzero(rows == cols)
-        self.data = np.empty_like(self.stiffness)
-        self.inv_diag = np.empty(pattern.shape[0])
-        self.correction = np.zeros((pattern.shape[0], 3))
-        self.rest = np.zeros((pattern.shape[0], 3))  # the residual
-
-    def set_step(self, h: float) -> None:
-        np.add(self.stiffness, self.identity, out=self.data)
-        self.data += self.mass / (h * h)
-        self.inv_diag[:] = 1.0 / self.data[self.on_diagonal]
-
-    def matrix(self):
-        import scipy.sparse as sp
-        n = len(self.indptr) - 1
-        return sp.csr_matrix((self.data, self.indices, self.indptr), shape=(n, n))
 
 
 class StepMultigrid:
@@ -146,8 +208,8 @@ class StepMultigrid:
         k = sp.csr_matrix(stiffness)
         m = sp.diags(np.where(free, mass, 0.0), format="csr")
         one = sp.diags(held.astype(float), format="csr")
-        self.levels = [_Level(k, m, one)]
-        self.interpolate: list = []  # (I, Iᵀ) from each level to the one below it
+        levels = [_Level(k, m, one)]
+        interpolations: list = []  # (I, Iᵀ) from each grid to the one below it
         keep = sp.diags(free.astype(float))  # held particles take no coarse correction
         while k.shape[0] > COARSEST and max(nx, nz) > 3:
             ix, nx = interpolation_1d(nx)
@@ -159,38 +221,69 @@ class StepMultigrid:
             k, m = (it @ k @ i).tocsr(), (it @ m @ i).tocsr()
             empty = m.diagonal() + k.diagonal() <= 0.0  # over held particles only
             one = sp.diags(empty.astype(float), format="csr")
-            self.interpolate.append((i, it))
-            self.levels.append(_Level(k, m, one))
+            interpolations.append((i, it))
+            levels.append(_Level(k, m, one))
+        self._flatten(levels, interpolations)
         self.h = None
-        self._direct = None
+
+    def _flatten(self, levels: list[_Level], interpolations: list) -> None:
+        """Every grid's arrays end to end, for v_cycle (its docstring has the layout)."""
+        sizes = [len(level.indptr) - 1 for level in levels]
+        self.row_at = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        self.grids = len(levels)  # the sheet's own first
+
+        def pointers(matrices):  # row pointers into the concatenated entries
+            starts = np.concatenate([[0], np.cumsum([len(m[1]) for m in matrices])])
+            return np.concatenate([m[0] + start for m, start in zip(matrices, starts)]
+                                  or [np.zeros(0)]).astype(np.int64)
+
+        def entries(matrices, which):
+            return np.concatenate([m[which] for m in matrices] or [np.zeros(0)])
+
+        grid = [(lv.indptr, lv.indices) for lv in levels]
+        self.ptr = pointers(grid)
+        self.indices = entries(grid, 1).astype(np.int64)
+        nnz_at = np.concatenate([[0], np.cumsum([len(lv.indices) for lv in levels])])
+        self.stiffness = np.concatenate([lv.stiffness for lv in levels])
+        self.mass = np.concatenate([lv.mass for lv in levels])
+        self.identity = np.concatenate([lv.identity for lv in levels])
+        self.on_diagonal = np.concatenate([lv.on_diagonal + at
+                                           for lv, at in zip(levels, nnz_at)])
+        self.data = np.empty_like(self.stiffness)
+        self.inv_diag = np.empty(self.row_at[-1])
+        down = [(i.indptr, i.indices, i.data) for i, _ in interpolations]
+        up = [(it.indptr, it.indices, it.data) for _, it in interpolations]
+        self.i_ptr, self.i_indices = pointers(down), entries(down, 1).astype(np.int64)
+        self.i_data = entries(down, 2).astype(np.float64)
+        self.t_ptr, self.t_indices = pointers(up), entries(up, 1).astype(np.int64)
+        self.t_data = entries(up, 2).astype(np.float64)
+        self.rhs = np.zeros((self.row_at[-1], 3))
+        self.correction = np.zeros((self.row_at[-1], 3))
+        self.rest = np.zeros((self.row_at[-1], 3))  # each grid's residual
+        self.chol = np.zeros((0, 0))
 
     def set_step(self, h: float) -> None:
-        """P for substeps of length h (cheap: each level adds its parts again)."""
+        """P for substeps of length h (cheap: each grid adds its parts again, and the
+        coarsest, at most COARSEST particles, is factored anew)."""
         if h == self.h:
             return
-        from scipy.sparse.linalg import splu
-
-        for level in self.levels:
-            level.set_step(h)
-        self._direct = splu(self.levels[-1].matrix().tocsc())
+        np.add(self.stiffness, self.identity, out=self.data)
+        self.data += self.mass / (h * h)
+        self.inv_diag[:] = 1.0 / self.data[self.on_diagonal]
+        lo, hi = self.row_at[-2], self.row_at[-1]
+        start = self.ptr[lo + self.grids - 1]
+        rows = self.ptr[lo + self.grids - 1:hi + self.grids] - start
+        coarsest = np.zeros((hi - lo, hi - lo))
+        for i in range(hi - lo):
+            span = slice(start + rows[i], start + rows[i + 1])
+            coarsest[i, self.indices[span]] = self.data[span]
+        self.chol = np.ascontiguousarray(np.linalg.cholesky(coarsest))
         self.h = h
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.zeros(b.shape)
-        self._cycle(0, np.ascontiguousarray(b, dtype=np.float64), x)
+        v_cycle(self.row_at, self.ptr, self.indices, self.data, self.inv_diag, self.i_ptr,
+                self.i_indices, self.i_data, self.t_ptr, self.t_indices, self.t_data,
+                self.chol, np.ascontiguousarray(b, dtype=np.float64), x, self.rhs,
+                self.correction, self.rest)
         return x
-
-    def _cycle(self, k: int, b: np.ndarray, x: np.ndarray) -> None:
-        level = self.levels[k]
-        if k == len(self.levels) - 1:
-            x[...] = self._direct.solve(b)
-            return
-        args = (level.indptr, level.indices, level.data)
-        gauss_seidel_sweep(*args, level.inv_diag, x, b, True)
-        residual(*args, x, b, level.rest)
-        i, it = self.interpolate[k]
-        below = self.levels[k + 1].correction
-        below[...] = 0.0
-        self._cycle(k + 1, it @ level.rest, below)
-        x += i @ below
-        gauss_seidel_sweep(*args, level.inv_diag, x, b, False)
