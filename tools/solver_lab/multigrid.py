@@ -3,7 +3,7 @@ replaced, on the fabric bench's denim sheet (issue 37).
 
     OPENBLAS_NUM_THREADS=1 python tools/solver_lab/multigrid.py [CELLS ...]
 
-Per size: ms to apply each to three right-hand sides (the best of 10 blocks of 10), ms to
+Per size: ms to apply each to three right-hand sides (the best of 10 blocks), ms to
 make each at a new substep length, and the V-cycle's distance from P⁻¹ (relative, 2-norm)
 on a random load. The factor is SciPy's SuperLU in single precision with a minimum-degree
 ordering of AᵀA + A, as lbfgs had it. docs/benchmarks.md (read by hand) has what this printed.
@@ -18,6 +18,7 @@ import numpy as np
 from scipy.sparse.linalg import splu
 
 from cloth_tui.bench.fabric_cost import clipped_fabric_scene
+from cloth_tui.bench.timing import time_calls
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.lbfgs.multigrid import StepMultigrid
 from cloth_tui.sim.solvers.lbfgs.step_matrix import stiffness_matrix, step_matrix
@@ -25,15 +26,9 @@ from cloth_tui.sim.solvers.lbfgs.step_matrix import stiffness_matrix, step_matri
 H = 1.0 / 120
 
 
-def best_ms(apply, blocks: int = 10, repeats: int = 10) -> float:
-    apply()
-    times = []
-    for _ in range(blocks):
-        t0 = time.perf_counter()
-        for _ in range(repeats):
-            apply()
-        times.append((time.perf_counter() - t0) / repeats)
-    return 1e3 * min(times)
+def best_ms(apply) -> float:
+    """The fastest of 10 blocks' ms a call (cloth_tui.bench.timing)."""
+    return 1e3 * time_calls(apply, blocks=10, block_s=0.05).min_s
 
 
 def once_ms(make) -> float:
