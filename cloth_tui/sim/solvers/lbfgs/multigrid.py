@@ -30,8 +30,8 @@ COARSEST = 600  # particles: a grid this small is solved directly
 
 @kernel(inline="always")
 def row_times(indptr, indices, data, x, i):
-    """Row i of P times x, for the three columns of x. Four partial sums: one sum's chain of
-    dependent additions, not the loads, was what bounded a sweep."""
+    """Row i of a CSR matrix (P, I or Iᵀ) times x, for the three columns of x. Four partial
+    sums: one sum's chain of dependent additions, not the loads, was what bounded a sweep."""
     a0 = a1 = a2 = b0 = b1 = b2 = c0 = c1 = c2 = d0 = d1 = d2 = 0.0
     t, end = indptr[i], indptr[i + 1]
     while t + 3 < end:
@@ -159,7 +159,7 @@ def v_cycle(row_at, ptr, indices, data, inv_diag, i_ptr, i_indices, i_data, t_pt
 
 def interpolation_1d(n: int):
     """(I, coarse count): n points along a line from the coarse ones at the even indices
-    (and the last, where it is odd), linear between two; the identity for n ≤ 3."""
+    (and the last, where its index is odd), linear between two; the identity for n ≤ 3."""
     import scipy.sparse as sp
 
     if n <= 3:
