@@ -12,10 +12,13 @@ One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and 
                  descend), x += t·d with t halved until Φ falls enough (Armijo); each
                  edge's λ then holds its force
     velocities   update_velocities: v ← (x − x_prev)/h (BDF2: v ← (x − x̂)/h')
-Its minimum is implicit Euler's step on the material's own energy, so the sheet settles where
-the fabric's equilibrium is at any iteration count (a step that stops early stops at a lower
-Φ on the way there: it slows the motion, it does not move the rest state). What stopping
-early costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
+Its minimum is implicit Euler's step on the material's own energy, so the sheet's rest state
+is the fabric's equilibrium at any iteration count (a step that stops early stops at a lower
+Φ on the way there: it slows the motion, it does not move the rest state). But with the pairs
+carried over no two substeps solve alike, so at few iterations the sheet never quite comes to
+rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L, the
+default scene at up to 2 cm/s; docs/accuracy.md). What stopping early costs is numerical
+damping, on top of implicit Euler's own (tools/solver_lab/bench.py
 measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
 is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
 damping (behavior.energy_tolerance).
