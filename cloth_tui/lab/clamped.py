@@ -151,9 +151,9 @@ def _tip(sim, across: int, lengthwise: int, along: str) -> tuple[float, float]:
 def settle_clamped(free_length: float, links: int, material, solver: str | None = None,
                    along: str = "warp") -> dict:
     """Runs the clamped strip (cut along the warp or the weft) to rest (its tip still to
-    SETTLED_DRIFT·L over each of STILL_CHECKS half periods in a row); returns its tip's drop and reach from the clamp's
-    edge (m, mean across the strip), the line's angle below horizontal, the wall time and
-    the solve's settings."""
+    SETTLED_DRIFT·L over each of STILL_CHECKS half periods in a row); returns its tip's drop
+    and reach from the clamp's edge (m, mean across the strip), the line's angle below
+    horizontal, the wall time and the solve's settings."""
     scene, across, lengthwise, h = clamped_strip(free_length, links, material, solver, along)
     sim = warmed_simulation(scene)
     period = first_mode_period(free_length, material, along)
