@@ -16,9 +16,9 @@ Its minimum is implicit Euler's step on the material's own energy, so the sheet'
 is the fabric's equilibrium at any iteration count (a step that stops early stops at a lower
 Φ on the way there: it slows the motion, it does not move the rest state). But with the pairs
 carried over no two substeps solve alike, so at few iterations the sheet never quite comes to
-rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L, the
-default scene at up to 2 cm/s; docs/accuracy.md). What stopping early costs is numerical
-damping, on top of implicit Euler's own (tools/solver_lab/bench.py
+rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L,
+docs/accuracy.md; the default scene at 32 cells at up to 2.7 cm/s). What stopping early
+costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
 measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
 is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
 damping (behavior.energy_tolerance).
