@@ -111,45 +111,49 @@ def step_objective(x, y, mass_h2, inv_mass, edges, rest, k_edge, alive, cells, c
 
 @kernel()
 def dot(a, b):
-    """Σ a·b over two (N, 3) arrays."""
+    """Σ a·b over two (N, 3) arrays (C-contiguous, read flat: the loop then vectorises)."""
+    a, b = a.reshape(-1), b.reshape(-1)
     total = 0.0
     for i in range(a.shape[0]):
-        total += a[i, 0] * b[i, 0] + a[i, 1] * b[i, 1] + a[i, 2] * b[i, 2]
+        total += a[i] * b[i]
     return total
 
 
 @kernel()
 def first_loop(q, s_hist, y_hist, rho, order, count, alphas):
-    """L-BFGS's first loop, newest pair first: q ← q − α_k y_k, α_k = ρ_k s_kᵀq."""
+    """L-BFGS's first loop, newest pair first: q ← q − α_k y_k, α_k = ρ_k s_kᵀq (the arrays
+    C-contiguous, read flat)."""
+    flat = q.reshape(-1)
+    size = flat.shape[0]
+    s_flat = s_hist.reshape(s_hist.shape[0], size)
+    y_flat = y_hist.reshape(y_hist.shape[0], size)
     for j in range(count - 1, -1, -1):
         k = order[j]
         a = 0.0
-        for i in range(q.shape[0]):
-            a += (s_hist[k, i, 0] * q[i, 0] + s_hist[k, i, 1] * q[i, 1]
-                  + s_hist[k, i, 2] * q[i, 2])
+        for i in range(size):
+            a += s_flat[k, i] * flat[i]
         a *= rho[k]
         alphas[k] = a
-        for i in range(q.shape[0]):
-            q[i, 0] -= a * y_hist[k, i, 0]
-            q[i, 1] -= a * y_hist[k, i, 1]
-            q[i, 2] -= a * y_hist[k, i, 2]
+        for i in range(size):
+            flat[i] -= a * y_flat[k, i]
 
 
 @kernel()
 def second_loop(r, s_hist, y_hist, rho, order, count, alphas, fixed):
     """L-BFGS's second loop, oldest pair first: r ← r + (α_k − ρ_k y_kᵀr) s_k; then the
-    direction −r, zero on held particles."""
+    direction −r, zero on held particles (the arrays C-contiguous, read flat)."""
+    flat = r.reshape(-1)
+    size = flat.shape[0]
+    s_flat = s_hist.reshape(s_hist.shape[0], size)
+    y_flat = y_hist.reshape(y_hist.shape[0], size)
     for j in range(count):
         k = order[j]
         b = 0.0
-        for i in range(r.shape[0]):
-            b += (y_hist[k, i, 0] * r[i, 0] + y_hist[k, i, 1] * r[i, 1]
-                  + y_hist[k, i, 2] * r[i, 2])
+        for i in range(size):
+            b += y_flat[k, i] * flat[i]
         c = alphas[k] - rho[k] * b
-        for i in range(r.shape[0]):
-            r[i, 0] += c * s_hist[k, i, 0]
-            r[i, 1] += c * s_hist[k, i, 1]
-            r[i, 2] += c * s_hist[k, i, 2]
+        for i in range(size):
+            flat[i] += c * s_flat[k, i]
     for i in range(r.shape[0]):
         if fixed[i]:
             r[i, 0] = 0.0
@@ -163,11 +167,10 @@ def second_loop(r, s_hist, y_hist, rho, order, count, alphas, fixed):
 
 @kernel()
 def step_to(x, d, t, out):
-    """out ← x + t·d."""
-    for i in range(x.shape[0]):
-        out[i, 0] = x[i, 0] + t * d[i, 0]
-        out[i, 1] = x[i, 1] + t * d[i, 1]
-        out[i, 2] = x[i, 2] + t * d[i, 2]
+    """out ← x + t·d (C-contiguous, read flat)."""
+    xf, df, of = x.reshape(-1), d.reshape(-1), out.reshape(-1)
+    for i in range(xf.shape[0]):
+        of[i] = xf[i] + t * df[i]
 
 
 @kernel()
