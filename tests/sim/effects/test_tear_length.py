@@ -70,12 +70,14 @@ def sinking_sheet(cells: int, strength: float, tear_length: float) -> Scene:
     """A 1 m denim sheet, level at the start, held along the middle half of its near edge
     (a pin group: a clamped line whose ends are inside the edge), sinking on it under
     gravity, damped (10/s) so that its load grows slowly and the step's own damping does
-    not set it; lbfgs, whose edge forces are the solved step's tension."""
+    not set it; lbfgs, whose edge forces are the solved step's tension, at the default
+    accuracy (a fixed few substeps leave that tension a few per cent off, and where it
+    first tears then moves with any change to the solve: docs/accuracy.md)."""
     q = cells // 4
     return Scene().with_values({
         "cloth.resolution": cells + 1, "cloth.pinned": "none", "cloth.height": 1.0,
         "scene.floor": False, "behavior.solver": "lbfgs", "behavior.tear": True,
-        "behavior.adaptive": False, "behavior.substeps": 4,
+        "behavior.adaptive": True,
         "material": {"preset": "denim", "damping": 10.0, "tear_strength": strength,
                      "tear_length": tear_length},
         "pins": [{"rows": [0, 0], "cols": [q, cells - q]}]})
@@ -90,15 +92,16 @@ def tears_within_2_s(scene: Scene) -> bool:
     return False
 
 
+@pytest.mark.heavy
 def test_a_pin_groups_first_tear_converges_over_tear_length_but_not_per_edge():
-    # Measured, the strength it first tears at within 2 s (N/m) at 24 / 32 / 48 cells: per
-    # edge 17.6 / 20.8 / 26.9, over 4 cm 17.6 / 16.9 / 16.2 (docs/accuracy.md). So over 4 cm
-    # it tears at 15 N/m and holds at 18.5 on each grid ...
+    # Measured, the strength it first tears at within 2 s (N/m) at 24 / 32 / 48 cells: over
+    # 4 cm 19.2 / 18.8 / 17.5, per edge at 48 cells 28.1 (docs/accuracy.md). So over 4 cm it
+    # tears at 16 N/m and holds at 20 on each grid ...
     for cells in (24, 32, 48):
-        assert tears_within_2_s(sinking_sheet(cells, 15.0, 0.04)), cells
-        assert not tears_within_2_s(sinking_sheet(cells, 18.5, 0.04)), cells
-    # ... where per edge the finest grid's end of the line tears at 18.5 N/m
-    assert tears_within_2_s(sinking_sheet(48, 18.5, 0.0))
+        assert tears_within_2_s(sinking_sheet(cells, 16.0, 0.04)), cells
+        assert not tears_within_2_s(sinking_sheet(cells, 20.0, 0.04)), cells
+    # ... where per edge the finest grid's end of the line tears at 20 N/m
+    assert tears_within_2_s(sinking_sheet(48, 20.0, 0.0))
 
 
 @pytest.mark.parametrize("substeps", [4, 32])

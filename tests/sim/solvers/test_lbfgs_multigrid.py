@@ -134,3 +134,52 @@ def test_two_sheets_alive_at_once_each_find_their_own_cycle():
         cycle = kept_preconditioner(model, projection.k_edge, projection.k_sten, H)
         assert made.setdefault(id(model), cycle) is cycle
     assert made[id(first[0])] is not made[id(second[0])]
+
+
+def test_the_cycle_the_solver_uses_leaves_out_small_bending_and_stays_close(sheet64):
+    """Denim's Q_B is a thousandth of its springs at 64²: the solver's cycle is made without
+    it (shorter rows) and is still within a few per cent of P⁻¹ with it."""
+    from cloth_tui.sim.solvers.lbfgs.step_matrix import (
+        BENDING_SHARE, bending_share, kept_preconditioner)
+
+    model, projection, with_bending = sheet64
+    springs = stiffness_matrix(model, projection.k_edge, None)
+    assert bending_share(model, springs, projection.k_sten) < BENDING_SHARE
+    cycle = kept_preconditioner(model, projection.k_edge, projection.k_sten, H)
+    assert len(cycle.indices) < len(with_bending.indices)
+    for b in loads(model):
+        assert relative_error(cycle.solve(b), exact(model, projection, b)) < 0.05
+
+
+def test_bending_that_matters_stays_in_the_cycle():
+    """A sheet 400× stiffer in bending reads a share above BENDING_SHARE, and its cycle keeps
+    Q_B (rows as long as the full P's)."""
+    from cloth_tui.sim.solvers.lbfgs.step_matrix import (
+        BENDING_SHARE, bending_share, preconditioner_stiffness)
+
+    model, projection = denim_sheet(32)
+    stiff = 400.0 * projection.k_sten
+    springs = stiffness_matrix(model, projection.k_edge, None)
+    assert bending_share(model, springs, stiff) > BENDING_SHARE
+    full = stiffness_matrix(model, projection.k_edge, stiff)
+    assert preconditioner_stiffness(model, projection.k_edge, stiff).nnz == full.nnz > springs.nnz
+
+
+def test_the_share_bounds_what_leaving_bending_out_changes():
+    """BENDING_SHARE's reasoning: Q_B ≤ r·K_springs with r (the largest generalised
+    eigenvalue) under 0.7 × the diagonal share, on the stiffest woven and the softest knit."""
+    from cloth_tui.sim.solvers.lbfgs.step_matrix import bending_share
+
+    for preset in ("denim", "wang2011-navy-sparkle-sweat"):
+        scene = clipped_fabric_scene(16, {"material": {"preset": preset}})
+        model, projection = lbfgs_model(scene)
+        free = np.flatnonzero(model.inv_mass > 0)
+        springs = stiffness_matrix(model, projection.k_edge, None)
+        bending = stiffness_matrix(model, projection.k_edge, projection.k_sten) - springs
+        k_s = springs[free][:, free].tocsc()
+        q = bending[free][:, free].tocsr()
+        factor = sla.splu(k_s)
+        operator = sla.LinearOperator(k_s.shape, matvec=lambda v: factor.solve(q @ v))
+        r = abs(sla.eigs(operator, k=1, which="LM", return_eigenvectors=False)[0])
+        share = bending_share(model, springs, projection.k_sten)
+        assert 0.0 < r <= 0.7 * share
