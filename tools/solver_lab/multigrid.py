@@ -5,7 +5,9 @@ replaced, on the fabric bench's denim sheet (issue 37).
 
 Per size: ms to apply each to three right-hand sides (the best of 10 blocks), ms to
 make each at a new substep length, and the V-cycle's distance from P⁻¹ (relative, 2-norm)
-on a random load. The factor is SciPy's SuperLU in single precision with a minimum-degree
+on a random load. The V-cycle is the one the solver makes (without the bending stencils
+where they are small: step_matrix.preconditioner_stiffness), P the full one. The factor is
+SciPy's SuperLU in single precision with a minimum-degree
 ordering of AᵀA + A, as lbfgs had it. docs/benchmarks.md (read by hand) has what this printed.
 """
 
@@ -21,7 +23,7 @@ from cloth_tui.bench.fabric_cost import clipped_fabric_scene
 from cloth_tui.bench.timing import time_calls
 from cloth_tui.sim.run.runner import Simulation
 from cloth_tui.sim.solvers.lbfgs.multigrid import StepMultigrid
-from cloth_tui.sim.solvers.lbfgs.step_matrix import stiffness_matrix, step_matrix
+from cloth_tui.sim.solvers.lbfgs.step_matrix import preconditioner_stiffness, step_matrix
 
 H = 1.0 / 120
 
@@ -41,8 +43,8 @@ def compare(cells: int) -> None:
     sim = Simulation(clipped_fabric_scene(cells, {"behavior.solver": "lbfgs"}))
     m, solve = sim.model, sim.step.solver.projection
     held = m.inv_mass == 0
-    cycle = StepMultigrid(stiffness_matrix(m, solve.k_edge, solve.k_sten), m.mass, held,
-                          m.nx, m.nz)
+    cycle = StepMultigrid(preconditioner_stiffness(m, solve.k_edge, solve.k_sten), m.mass,
+                          held, m.nx, m.nz)
     matrix = step_matrix(m, solve.k_edge, solve.k_sten, H).tocsc().astype(np.float32)
     lu = splu(matrix, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
     b = np.random.default_rng(1).standard_normal((m.num_particles, 3))
