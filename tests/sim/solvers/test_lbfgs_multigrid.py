@@ -183,3 +183,25 @@ def test_the_share_bounds_what_leaving_bending_out_changes():
         r = abs(sla.eigs(operator, k=1, which="LM", return_eigenvectors=False)[0])
         share = bending_share(model, springs, projection.k_sten)
         assert 0.0 < r <= 0.7 * share
+
+
+def test_the_first_sweep_and_its_residual_are_gauss_seidels_from_zero(sheet64):
+    """The cycle's way down reads half of P twice where a sweep and b − Px read all of it
+    twice: the same numbers, to rounding."""
+    from cloth_tui.sim.solvers.lbfgs.multigrid import (
+        gauss_seidel_sweep, residual_after_sweep, sweep_from_zero)
+
+    model, projection, cycle = sheet64
+    rows = cycle.row_at[1]  # the sheet's own grid
+    ptr, diag = cycle.ptr[:rows + 1], cycle.on_diagonal[:rows]
+    matrix = step_matrix(model, projection.k_edge, projection.k_sten, H)
+    b = np.random.default_rng(3).standard_normal((rows, 3))
+    reference = np.zeros((rows, 3))
+    gauss_seidel_sweep(ptr, cycle.indices, cycle.data, cycle.inv_diag[:rows], reference, b,
+                       True)
+    x, rest = np.full((rows, 3), np.nan), np.zeros((rows, 3))  # (x is written, never read)
+    sweep_from_zero(ptr, cycle.indices, cycle.data, cycle.inv_diag[:rows], diag, x, b)
+    residual_after_sweep(ptr, cycle.indices, cycle.data, diag, x, rest)
+    assert np.allclose(x, reference, rtol=1e-12, atol=1e-14 * np.abs(reference).max())
+    exact_rest = b - matrix @ x
+    assert np.allclose(rest, exact_rest, rtol=1e-9, atol=1e-12 * np.abs(b).max())

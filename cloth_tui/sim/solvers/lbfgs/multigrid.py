@@ -29,11 +29,11 @@ COARSEST = 600  # particles: a grid this small is solved directly
 
 
 @kernel(inline="always")
-def row_times(indptr, indices, data, x, i):
-    """Row i of a CSR matrix (P, I or Iᵀ) times x, for the three columns of x. Four partial
-    sums: one sum's chain of dependent additions, not the loads, was what bounded a sweep."""
+def span_times(indices, data, x, t, end):
+    """Entries t:end of a CSR matrix's row (P, I or Iᵀ) times x, for the three columns of x.
+    Four partial sums: one sum's chain of dependent additions, not the loads, was what
+    bounded a sweep."""
     a0 = a1 = a2 = b0 = b1 = b2 = c0 = c1 = c2 = d0 = d1 = d2 = 0.0
-    t, end = indptr[i], indptr[i + 1]
     while t + 3 < end:
         j, w = indices[t], data[t]
         a0 += w * x[j, 0]
@@ -61,6 +61,37 @@ def row_times(indptr, indices, data, x, i):
     return (a0 + b0) + (c0 + d0), (a1 + b1) + (c1 + d1), (a2 + b2) + (c2 + d2)
 
 
+@kernel(inline="always")
+def row_times(indptr, indices, data, x, i):
+    """Row i of a CSR matrix times x, for the three columns of x."""
+    return span_times(indices, data, x, indptr[i], indptr[i + 1])
+
+
+@kernel()
+def sweep_from_zero(indptr, indices, data, inv_diag, diag_at, x, b):
+    """A forward Gauss-Seidel sweep of P x = b from x = 0 (x's rows are written, not
+    read, before their turn): row i reads only the entries left of its diagonal (at
+    diag_at[i]), the rows before it; the others still hold 0."""
+    for i in range(x.shape[0]):
+        p0, p1, p2 = span_times(indices, data, x, indptr[i], diag_at[i])
+        w = inv_diag[i]
+        x[i, 0] = w * (b[i, 0] - p0)
+        x[i, 1] = w * (b[i, 1] - p1)
+        x[i, 2] = w * (b[i, 2] - p2)
+
+
+@kernel()
+def residual_after_sweep(indptr, indices, data, diag_at, x, out):
+    """out = b − P x after sweep_from_zero: row i there met b with the rows before it and
+    its own, so what is left is minus the entries right of its diagonal times x (half a
+    product of P where b − P x takes a whole one)."""
+    for i in range(x.shape[0]):
+        p0, p1, p2 = span_times(indices, data, x, diag_at[i] + 1, indptr[i + 1])
+        out[i, 0] = -p0
+        out[i, 1] = -p1
+        out[i, 2] = -p2
+
+
 @kernel()
 def gauss_seidel_sweep(indptr, indices, data, inv_diag, x, b, forward):
     """One Gauss-Seidel sweep of P x = b over the rows, first to last or last to first, for
@@ -73,16 +104,6 @@ def gauss_seidel_sweep(indptr, indices, data, inv_diag, x, b, forward):
         x[i, 0] += w * (b[i, 0] - p0)
         x[i, 1] += w * (b[i, 1] - p1)
         x[i, 2] += w * (b[i, 2] - p2)
-
-
-@kernel()
-def residual(indptr, indices, data, x, b, out):
-    """out = b − P x."""
-    for i in range(x.shape[0]):
-        p0, p1, p2 = row_times(indptr, indices, data, x, i)
-        out[i, 0] = b[i, 0] - p0
-        out[i, 1] = b[i, 1] - p1
-        out[i, 2] = b[i, 2] - p2
 
 
 @kernel()
@@ -120,7 +141,7 @@ def cholesky_solve(chol, b, out):
 
 
 @kernel()
-def v_cycle(row_at, ptr, indices, data, inv_diag, i_ptr, i_indices, i_data, t_ptr,
+def v_cycle(row_at, ptr, indices, data, inv_diag, diag_at, i_ptr, i_indices, i_data, t_ptr,
             t_indices, t_data, chol, b, x, rhs, correction, rest):
     """x = one V(1,1)-cycle on b (module docstring), every grid in one call. Grid k's rows
     are row_at[k]:row_at[k+1] of the work arrays (rhs, correction, rest) and of inv_diag; its
@@ -141,8 +162,9 @@ def v_cycle(row_at, ptr, indices, data, inv_diag, i_ptr, i_indices, i_data, t_pt
         xk = x if k == 0 else correction[lo:hi]
         bk = b if k == 0 else rhs[lo:hi]
         rows = ptr[lo + k:hi + k + 1]
-        gauss_seidel_sweep(rows, indices, data, inv_diag[lo:hi], xk, bk, True)
-        residual(rows, indices, data, xk, bk, rest[lo:hi])
+        # (x is 0 here: the fine grid's from solve, a coarse grid's from above)
+        sweep_from_zero(rows, indices, data, inv_diag[lo:hi], diag_at[lo:hi], xk, bk)
+        residual_after_sweep(rows, indices, data, diag_at[lo:hi], xk, rest[lo:hi])
         below = row_at[k + 2]
         start = hi - row_at[1] + k  # Iᵀ's rows are grid k + 1's
         interpolate(t_ptr[start:start + below - hi + 1], t_indices, t_data, rest[lo:hi],
@@ -282,8 +304,9 @@ class StepMultigrid:
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.zeros(b.shape)
-        v_cycle(self.row_at, self.ptr, self.indices, self.data, self.inv_diag, self.i_ptr,
-                self.i_indices, self.i_data, self.t_ptr, self.t_indices, self.t_data,
-                self.chol, np.ascontiguousarray(b, dtype=np.float64), x, self.rhs,
-                self.correction, self.rest)
+        v_cycle(self.row_at, self.ptr, self.indices, self.data, self.inv_diag,
+                self.on_diagonal, self.i_ptr, self.i_indices, self.i_data, self.t_ptr,
+                self.t_indices, self.t_data, self.chol,
+                np.ascontiguousarray(b, dtype=np.float64), x, self.rhs, self.correction,
+                self.rest)
         return x
