@@ -29,6 +29,22 @@ def test_the_tip_drop_is_the_elasticas(load, links, solver):
     assert r["max_stretch"] < 0.01  # it bends; it does not hang by stretching
 
 
+def test_a_strip_at_rest_is_still_everywhere_and_a_jittering_one_is_not_called_settled():
+    """Settled means the tip still for STILL_CHECKS checks and no particle faster than would
+    move it SETTLED_DRIFT·L in one: a strip at rest passes with its particles a hundred times
+    slower than that; lbfgs at the lab's iterations, whose solve jitters (its tip once read
+    still three checks running), never does, and the error names its fastest particle."""
+    from cloth_tui.lab.study import LabError
+
+    denim = lab_material("denim")
+    length = clamped.strip_for_load(8.0, denim)
+    period = clamped.first_mode_period(length, denim, "warp")
+    allowed = clamped.SETTLED_DRIFT * length / (clamped.CHECK_PERIODS * period)
+    assert clamped.settle_clamped(length, 10, denim, "xpbd")["max_speed"] < allowed / 10
+    with pytest.raises(LabError, match="fastest particle at"):
+        clamped.settle_clamped(length, 10, denim, "lbfgs")
+
+
 def test_a_finer_strip_takes_shorter_substeps():
     """The bending's stiffness per step grows as 1/dx⁴: h ∝ dx² keeps it bounded."""
     denim = lab_material("denim")
