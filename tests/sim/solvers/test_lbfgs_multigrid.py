@@ -205,3 +205,17 @@ def test_the_first_sweep_and_its_residual_are_gauss_seidels_from_zero(sheet64):
     assert np.allclose(x, reference, rtol=1e-12, atol=1e-14 * np.abs(reference).max())
     exact_rest = b - matrix @ x
     assert np.allclose(rest, exact_rest, rtol=1e-9, atol=1e-12 * np.abs(b).max())
+
+
+def test_the_coarsest_grid_is_factored_as_lapack_would_and_a_bad_pivot_reads_nan():
+    from cloth_tui.sim.solvers.lbfgs.multigrid import cholesky_factor
+
+    a = np.random.default_rng(11).standard_normal((40, 40))
+    a = a @ a.T + 40 * np.eye(40)
+    factor = np.empty_like(a)
+    cholesky_factor(a, factor)
+    assert np.allclose(factor, np.linalg.cholesky(a), rtol=1e-12, atol=1e-12)
+    a[5, 5] = -1.0  # not positive definite
+    cholesky_factor(a, factor)
+    lower = np.tril_indices(35)
+    assert np.isnan(factor[5:, 5:][lower]).all() and np.isfinite(factor[:5, :5]).all()

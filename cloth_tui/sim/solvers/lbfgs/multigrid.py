@@ -21,6 +21,8 @@ every return to Python between small steps waits for it.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ...jit import kernel
@@ -120,6 +122,27 @@ def interpolate(indptr, indices, data, coarse, out, add):
             out[i, 0] = p0
             out[i, 1] = p1
             out[i, 2] = p2
+
+
+@kernel()
+def cholesky_factor(a, out):
+    """out = L, lower triangular with L Lᵀ = a (dense, symmetric positive definite; a pivot
+    that is not positive gives NaN, which the guard sees). Here, not LAPACK's: OpenBLAS's
+    worker threads spin for about 0.1 s after each call, a core the renderer needs, and the
+    coarsest grid is factored at every new substep length (at most COARSEST rows: a few ms)."""
+    n = a.shape[0]
+    out[:, :] = 0.0
+    for j in range(n):
+        total = a[j, j]
+        for k in range(j):
+            total -= out[j, k] * out[j, k]
+        pivot = math.sqrt(total) if total > 0.0 else math.nan
+        out[j, j] = pivot
+        for i in range(j + 1, n):
+            total = a[i, j]
+            for k in range(j):
+                total -= out[i, k] * out[j, k]
+            out[i, j] = total / pivot
 
 
 @kernel()
@@ -299,7 +322,8 @@ class StepMultigrid:
         for i in range(hi - lo):
             span = slice(start + rows[i], start + rows[i + 1])
             coarsest[i, self.indices[span]] = self.data[span]
-        self.chol = np.ascontiguousarray(np.linalg.cholesky(coarsest))
+        self.chol = np.empty_like(coarsest)
+        cholesky_factor(coarsest, self.chol)
         self.h = h
 
     def solve(self, b: np.ndarray) -> np.ndarray:
