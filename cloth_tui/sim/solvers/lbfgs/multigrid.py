@@ -128,8 +128,8 @@ def interpolate(indptr, indices, data, coarse, out, add):
 def cholesky_factor(a, out):
     """out = L, lower triangular with L Lᵀ = a (dense, symmetric positive definite; a pivot
     that is not positive gives NaN, which the guard sees). Here, not LAPACK's: OpenBLAS's
-    worker threads spin for about 0.1 s after each call, a core the renderer needs, and the
-    coarsest grid is factored at every new substep length (at most COARSEST rows: a few ms)."""
+    worker threads spin on after each call, on the core the renderer needs, and the coarsest
+    grid (at most COARSEST rows) is factored again at every new substep length."""
     n = a.shape[0]
     out[:, :] = 0.0
     for j in range(n):
