@@ -51,7 +51,7 @@ from .step_matrix import kept_preconditioner
 # L-BFGS pairs kept. The pairs carry over from substep to substep, so the older ones
 # describe the objective of a sheet that has since moved: on the fabric bench's clipped sheet
 # (docs/benchmarks.md), whose free corners whip round after its fall, 5 pairs left the solve
-# error high there and the accuracy control took 2.6x the substeps 3 pairs take
+# error high there and the accuracy control took 2.8x the substeps 3 pairs take
 # (2 pairs: 1.2x, 4: 2.1x, 8: 1.3x).
 HISTORY = 3
 ARMIJO = 1e-4      # sufficient decrease of a line search step
