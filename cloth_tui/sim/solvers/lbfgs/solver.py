@@ -17,7 +17,7 @@ is the fabric's equilibrium at any iteration count (a step that stops early stop
 Φ on the way there: it slows the motion, it does not move the rest state). But with the pairs
 carried over no two substeps solve alike, so at few iterations the sheet never quite comes to
 rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L,
-docs/accuracy.md; the default scene at 32 cells at up to 2.7 cm/s). What stopping early
+docs/accuracy.md; the default scene at 32 cells at up to 3.9 cm/s). What stopping early
 costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
 measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
 is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
