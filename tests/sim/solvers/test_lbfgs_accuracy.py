@@ -24,8 +24,8 @@ def worst_error(sim: Simulation, frames: int) -> float:
 
 
 def test_the_solve_error_falls_as_the_substeps_shorten():
-    """Measured on the falling sheet at 16 cells, 2 iterations, the worst of 60 frames:
-    0.11 / 0.037 / 0.017 / 0.0045 at 1 / 2 / 4 / 8 substeps."""
+    """The falling sheet at 16 cells, 2 iterations, the worst of 60 frames (the readings
+    are in docs/physics.md, lbfgs, "Its solve error")."""
     errors = [worst_error(clipped_denim(16, **{"behavior.substeps": n,
                                                "behavior.iterations": 2,
                                                "behavior.adaptive": False}), 40)
@@ -66,8 +66,9 @@ def undamped_drop(**keys):
 
 
 def test_an_energy_tolerance_of_5_percent_keeps_an_undamped_drop_within_5_percent():
-    """Measured: BDF2 raised as its damping asks loses 2.3 %; implicit Euler under the same
-    control 14 %, and over 30 % at the scene's 1 substep (the next test)."""
+    """BDF2 raised as its damping asks; implicit Euler under the same control loses more,
+    and over 30 % at the scene's 1 substep (the next test; measured in docs/physics.md,
+    lbfgs, "Energy: BDF2")."""
     lost, used, sim = undamped_drop(**{"behavior.energy_tolerance": 0.05})
     assert 0.0 <= lost <= 0.05, (lost, used)
     assert max(used) > 1  # the work it took, reported per frame
@@ -86,7 +87,7 @@ def test_without_an_energy_tolerance_the_step_is_implicit_euler_at_the_scenes_su
 
 def test_at_the_default_scenes_settings_a_32_cell_sheet_hangs_within_1_percent():
     """1 substep of 2 iterations, adaptive at the default tolerance, against 4 substeps of
-    20 (measured after 4 s: +0.25 % at 32 cells, −0.01 % at 16)."""
+    20, after 4 s (measured in docs/physics.md, lbfgs, "Statics and dynamics")."""
     from ..fabric.clipped_sheets import TYPED_DENIM, centre_height, clipped_sheet
 
     def sag(substeps: int, iterations: int, adaptive: bool) -> float:

@@ -1,8 +1,8 @@
 """lbfgs's dynamics against the hanging chain: a 1 m denim strip without bending, hung from
 its top edge until still, then released from the chain's first mode. Its period is the
 chain's within 1 % once the substeps resolve the strip's stretch under its swing (8 of 4
-iterations: +0.32 %); at fewer the error is large and not monotonic in the substeps (docs/
-physics.md, lbfgs: +9.6 % at 2 × 2, −4.4 % at 4 × 2)."""
+iterations); at fewer the error is large and not monotonic in the substeps (measured in
+docs/physics.md, lbfgs, "Statics and dynamics")."""
 
 import math
 
