@@ -30,7 +30,8 @@ def test_a_small_study_on_two_workers_equals_the_serial_one():
         A.StudyConfig.quick(), timing_budget=0.0, t_end=0.2,
         ladders={"rk4": (1 / 125, 1 / 250), "explicit_euler": (1 / 60, 1 / 2000)},
         pbd_dts=(1 / 60,), pbd_iterations=(4,), stability_stiffness=(200.0,),
-        stability_bisections=2, stability_t_end=0.1, sag_iterations=(1, 4), sag_t_end=0.5)
+        stability_bisections=2, stability_t_end=0.1, sag_iterations=(1, 4), sag_t_end=0.5,
+        cantilever_links=(5,))  # one resolution: each solver's strip runs up to 40 periods
     serial = A.run_study(cfg)
     on_dask = _run_on_dask(cfg, None, 2, None)
     a, b = without_timings(serial), without_timings(on_dask)
