@@ -151,19 +151,23 @@ def soak(seconds: float, warmup: float, scene: str, size: tuple[int, int],
         app.press("v")
         wait_until(0.6 * warmup)
         app.press("v")
-        recording = record_fraction == 1.0
-        if recording:
+        span = seconds - warmup
+        if record_fraction == 1.0:
             # Recording the whole span: its video starts inside the warm-up, so the one-off
             # step in RSS a recording's start makes is not counted as growth.
-            wait_until(0.8 * warmup)
+            record_from, record_to = 0.8 * warmup, seconds + 1.0
+        else:
+            record_from = warmup + span * (1 - record_fraction) / 2
+            record_to = record_from + span * record_fraction
+        recording = False
+        if record_from < warmup:
+            wait_until(record_from)
             app.press("v")
+            recording = True
         wait_until(warmup)
         rss_warm = rss_mb(pid)
         pc_warm = time.perf_counter()  # CLOCK_MONOTONIC on Linux, as the app's log times
         samples = [(time.monotonic(), rss_warm)]
-        span = seconds - warmup
-        record_from = 0.0 if recording else warmup + span * (1 - record_fraction) / 2
-        record_to = record_from + span * record_fraction if not recording else seconds + 1.0
         while time.monotonic() < t0 + seconds:
             wait_until(min(seconds, time.monotonic() - t0 + 1.0))
             elapsed = time.monotonic() - t0
