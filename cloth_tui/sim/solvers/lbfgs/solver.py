@@ -48,11 +48,9 @@ from .step_energy import (
 from .bdf2 import STEP_SHARE, PredictBDF2, VelocitiesBDF2
 from .step_matrix import kept_preconditioner
 
-# L-BFGS pairs kept. The pairs carry over from substep to substep, so the older ones
-# describe the objective of a sheet that has since moved: on the fabric bench's clipped sheet
-# (docs/benchmarks.md), whose free corners whip round after its fall, 5 pairs left the solve
-# error high there and the accuracy control took 2.8x the substeps 3 pairs take
-# (2 pairs: 1.2x, 4: 2.1x, 8: 1.3x).
+# L-BFGS pairs kept. They carry over from substep to substep, so older ones describe the
+# objective of a sheet that has since moved; more pairs cost substeps where the sheet whips
+# (measured in docs/physics.md, lbfgs).
 HISTORY = 3
 ARMIJO = 1e-4      # sufficient decrease of a line search step
 HALVINGS = 8       # a step halved this often without enough decrease ends the substep's solve
