@@ -115,7 +115,7 @@ def soak(tmp_path, monkeypatch, actions: int, seed: int = 7) -> None:
 
 @pytest.mark.heavy
 def test_soak_short(tmp_path, monkeypatch):
-    soak(tmp_path, monkeypatch, actions=200)
+    soak(tmp_path, monkeypatch, actions=120)
 
 
 @pytest.mark.slow
