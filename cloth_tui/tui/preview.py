@@ -9,7 +9,7 @@ Segment per run of equal cells, with Rich styles cached by packed colour pair.
 from __future__ import annotations
 
 import textwrap
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 from rich.color import Color, ColorSystem
@@ -17,6 +17,7 @@ from rich.console import COLOR_SYSTEMS
 from rich.segment import Segment
 from rich.style import Style
 from textual import events
+from textual.filter import ANSIToTruecolor, LineFilter
 from textual.geometry import Size
 from textual.message import Message
 from textual.strip import Strip
@@ -271,18 +272,27 @@ class Preview(Widget):
         self.refresh()
 
     # -- Line API -------------------------------------------------------------------------
+    def get_line_filters(self) -> Sequence[LineFilter]:
+        """The app's filters but ANSIToTruecolor: every colour here is RGB already, so that
+        filter would only copy each changed row's segments, and at 128² that copying was about
+        an eighth of the UI thread's time. (NO_COLOR's and dimming filters still apply.)"""
+        return [f for f in super().get_line_filters() if not isinstance(f, ANSIToTruecolor)]
+
     def render_line(self, y: int) -> Strip:
         if y < len(self._strips):
             return self._strips[y]
         width = self.size.width
+        # styled, never None: NO_COLOR's Monochrome filter reads every segment's style
+        style = self.rich_style
         if self._image is None:
             lines = textwrap.wrap(self._placeholder, max(width - 2, 1)) or [""]
             k = y - (self.size.height - len(lines)) // 2
             if 0 <= k < len(lines):
                 text = lines[k][:width]
                 pad = max((width - len(text)) // 2, 0)
-                return Strip([Segment(" " * pad + text)]).extend_cell_length(width)
-        return Strip.blank(width)
+                return Strip([Segment(" " * pad + text, style)]).extend_cell_length(width,
+                                                                                    style)
+        return Strip.blank(width, style)
 
     def get_content_width(self, container: Size, viewport: Size) -> int:
         return container.width
