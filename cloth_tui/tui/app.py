@@ -16,6 +16,7 @@ from typing import Any, Callable
 
 from textual.app import App, ComposeResult
 from textual.containers import Horizontal
+from textual.screen import Screen
 from textual.widgets import Footer, Input, OptionList
 
 from ..compile_notice import CompileWatch
@@ -108,6 +109,13 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         self.crash: Exception | None = None  # the first exception nothing caught
         self._compiling = CompileWatch()  # a first run's kernels, told in the status line
         self._debug = DebugLog.from_environment()  # timestamps of keys and frames
+
+    def get_default_screen(self) -> Screen:
+        """The first screen, born with the breakpoint class of the terminal's width: Textual
+        sets it on the first resize, after the panels mount, and a class changed then
+        restyles every widget (~0.2 s of start-up); one already there changes nothing."""
+        width_class = "-wide" if self.size.width >= WIDE_FROM else NARROW_CLASS
+        return Screen(id="_default", classes=width_class)
 
     def notify(self, message: str, *, title: str = "", severity: str = "information",
                timeout: float | None = None, markup: bool = False) -> None:

@@ -12,6 +12,7 @@ from textual.message import Message
 from textual.widgets import Button, Collapsible, Input, Label, Select
 
 from ..scene import OBJECT_TYPES, SceneObject
+from .folded_group import folded_group
 from .setting_field import SettingField
 
 OBJECT_KEYS = {f.name: f for f in dataclasses.fields(SceneObject)}
@@ -55,7 +56,7 @@ class ObjectsPanel(Vertical):
     def compose(self) -> ComposeResult:
         yield Label(f"[b]objects[/] ({len(self._objects)})", id="objects-label")
         for i, obj in enumerate(self._objects):
-            with Collapsible(title=object_title(i, obj), collapsed=True, id=f"object-{i}"):
+            with folded_group(object_title(i, obj), True, f"object-{i}"):
                 for name, spec in OBJECT_KEYS.items():
                     yield SettingField(object_key(i, name), getattr(obj, name), spec=spec)
                 yield Button("Remove", id=f"remove-object-{i}", compact=True,

@@ -11,13 +11,14 @@ import dataclasses
 from textual.app import ComposeResult
 from textual.containers import Horizontal, VerticalScroll
 from textual.message import Message
-from textual.widgets import Button, Collapsible
+from textual.widgets import Button
 
 from ..materials.catalogue import REPLACEABLE, replaced_keys
 from ..materials.section import is_material_key
 from ..scene import SECTION_TYPES, Scene
 from .fabric_panel import FabricPanel
 from .fabric_values import PREFIX
+from .folded_group import folded_group
 from .objects_panel import ObjectsPanel
 from .pins_panel import PinsPanel
 from .setting_field import (SettingField, format_value, label_text,  # noqa: F401 (re-exported)
@@ -67,12 +68,10 @@ class Controls(VerticalScroll):
             yield Button("Restart", id="restart", compact=True, variant="primary")
             yield Button("Restore defaults", id="defaults", compact=True, variant="warning")
             yield Button("Hide", id="hide", compact=True, tooltip="hide the controls (c)")
-        with Collapsible(title="Fabric", collapsed=self._scene.material is None,
-                         id="group-fabric"):
+        with folded_group("Fabric", self._scene.material is None, "group-fabric"):
             yield FabricPanel(self._scene.material, id="fabric")
         for group in GROUPS:
-            with Collapsible(title=group, collapsed=group != "Forces",
-                             id="group-" + group.lower()):
+            with folded_group(group, group != "Forces", "group-" + group.lower()):
                 for dotted in keys_in(group):
                     yield SettingField(dotted, self._scene.get(dotted))
                 if group == "Scene":
@@ -82,6 +81,12 @@ class Controls(VerticalScroll):
     def on_button_pressed(self, event: Button.Pressed) -> None:
         event.stop()
         self.post_message(self.Command(event.button.id or ""))
+
+    def watch_has_focus(self, has_focus: bool) -> None:
+        """Restyle the panel itself (its border, its scrollbar) when it takes or loses focus,
+        as a click between its fields does. Textual restyles the panel and every widget in
+        it, ~0.25 s of the UI thread, though no rule of a row depends on the panel's focus."""
+        self.app.stylesheet.update_nodes([self], animate=False)
 
     def on_mount(self) -> None:
         self._show_replaced(self._scene)

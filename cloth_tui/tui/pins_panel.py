@@ -13,6 +13,7 @@ from textual.message import Message
 from textual.widgets import Button, Collapsible, Label
 
 from ..pin_groups import PIN_KEYS, PinGroup, group_to_dict
+from .folded_group import folded_group
 from .setting_field import SettingField
 
 NEW_GROUP = {"at": [[0, 0]]}  # what Add puts in: the first corner, held where it is
@@ -64,7 +65,7 @@ class PinsPanel(Vertical):
     def compose(self) -> ComposeResult:
         yield Label(f"[b]pin groups[/] ({len(self._groups)})", id="pins-label")
         for i, group in enumerate(self._groups):
-            with Collapsible(title=pin_title(i, group), collapsed=True, id=f"pins-{i}"):
+            with folded_group(pin_title(i, group), True, f"pins-{i}"):
                 for name, spec in PIN_KEYS.items():
                     yield SettingField(pin_key(i, name), getattr(group, name), spec=spec)
                 yield Button("Remove", id=f"remove-pins-{i}", compact=True, variant="error",

@@ -18,6 +18,7 @@ from textual.widget import Widget
 from textual.widgets import Input, Label, Select, Static, Switch
 
 from ..scene import key_spec, value_type
+from .textual_adapter import VALID_INPUT_CLASS
 
 def widget_id(dotted: str) -> str:
     return "f-" + dotted.replace(".", "-")
@@ -157,7 +158,8 @@ class SettingField(Horizontal):
             yield Select([(c, c) for c in m["choices"]], value=v, allow_blank=False,
                          compact=True, id=wid)
         else:
-            yield Input(format_value(v), id=wid, compact=True, select_on_focus=False)
+            yield Input(format_value(v), id=wid, compact=True, select_on_focus=False,
+                        classes=VALID_INPUT_CLASS)  # what Textual would restyle it to
             if m["kind"] == "color":
                 yield Static(" ", classes="swatch", id=wid + "-swatch")
         unit = unit_text(self.dotted, self.spec)

@@ -8,7 +8,12 @@ random moment. Each has no public equivalent in the versions this project runs o
   with Textual's own screen updates;
 - `Screen._compositor.visible_widgets`: what is painted over a widget, topmost first;
 - `Console._color_system`: the colour depth, set to what the terminal was found to have;
-- `rich._palettes.STANDARD_PALETTE`: the colours Rich takes the 16 system colours to be.
+- `rich._palettes.STANDARD_PALETTE`: the colours Rich takes the 16 system colours to be;
+- the classes Textual itself sets on a folded Collapsible (`-collapsed`) and on an Input with
+  no validators (`-valid`) when they mount. Given at construction, setting them changes
+  nothing; set at mount, each restyles the widget and everything in it (the panels' ~700
+  widgets). Renamed, they would only cost that time again (tests/tui/test_start_styles.py
+  sees it).
 
 Textual is imported only when a function needs it: tui/graphics (no Textual) reads the
 palette through here too.
@@ -17,6 +22,10 @@ palette through here too.
 from __future__ import annotations
 
 from typing import Any, Iterator, Mapping
+
+COLLAPSED_CLASS = "-collapsed"  # textual.widgets.Collapsible._update_collapsed
+VALID_INPUT_CLASS = "-valid"    # textual.widgets.Input.validate, with no validators
+
 
 def is_select_overlay(widget: Any) -> bool:
     """Whether `widget` is an open Select's list of options."""
