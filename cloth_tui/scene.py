@@ -164,7 +164,8 @@ class Behavior:
                                  "5 %)", lo=0.001, hi=10.0)
     energy_tolerance: float = key(0.0, "largest numerical damping a frame may show: share of "
                                   "the sheet's free energy lost per second that no damping key "
-                                  "asked for (0.05: 5 %/s, about 10 % over 2 s); 0: unbounded",
+                                  "asked for (0.05: 5 %/s, about 10 % over 2 s); 0: unbounded "
+                                  "(lbfgs still bounds energy made, at 0.25/s)",
                                   unit="1/s", lo=0.0, hi=100.0)
     max_substeps: int = key(128, "adaptive: the most substeps per frame it may use",
                             lo=1, hi=1000)

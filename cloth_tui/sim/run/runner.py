@@ -27,7 +27,7 @@ from .numerical_damping import DampingMeter, measurable
 from .rebuild_policy import MODEL_KEYS, has_energy_source, needs_new_model, scene_material
 from .reporting import Snapshot, measured_stats, snapshot_of
 from .run_stats import FrameStats, RunStats
-from .substep_control import SubstepController
+from .substep_control import ENERGY_MADE_TOLERANCE, SubstepController
 
 if TYPE_CHECKING:
     from ...scene import Scene
@@ -75,6 +75,9 @@ class Simulation:
         self._sources = has_energy_source(scene)
         self._find_nearest_pins()
         self._build_step()
+        solver = self.step.solver
+        if solver is not None and solver.bounds_energy_made:
+            self.control.made_tolerance = ENERGY_MADE_TOLERANCE
         # A solver that leaves no solve error (springs stretch as their stiffness says,
         # whatever the step): the tolerance is reported, the substeps are the guard's alone.
         if self.step.solver is not None and self._solve_error() is None:

@@ -32,9 +32,13 @@ class SolverBase:
     `alpha_tilde`: α/h² of those constraints, a float for all alike or one per constraint.
     `watches_energy`: a force-based integrator going unstable pumps energy in, so the
     divergence guard compares each frame's energy with its start in a scene with no source;
-    `may_overstretch_unstably`: an unstable integrator shows first as stretch."""
+    `may_overstretch_unstably`: an unstable integrator shows first as stretch.
+    `bounds_energy_made`: a solve stopped early can make energy that its solve error does
+    not see, so the accuracy control bounds energy made even with no energy tolerance set
+    (substep_control.ENERGY_MADE_TOLERANCE)."""
     name: str = ""
     watches_energy: bool = False
+    bounds_energy_made: bool = False
 
     def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
                  params: StepParams):

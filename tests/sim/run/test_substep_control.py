@@ -128,6 +128,21 @@ def test_a_burst_of_damping_after_a_quiet_while_raises_within_a_few_frames():
     assert c.substeps > 4
 
 
+def test_a_bound_on_energy_made_alone_leaves_energy_lost_to_the_report():
+    # lbfgs's default (the runner sets it from the solver): energy made is an error of the
+    # solve at any tolerance; energy lost is what implicit Euler does
+    c = SubstepController(tolerance=0.05, floor=2, cap=128, made_tolerance=0.25)
+    for _ in range(3 * ENERGY_FRAMES):
+        assert c.accept(0.001, damping=5.0) == 2
+    assert c.met
+    for _ in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=-0.2)  # under the bound
+    assert c.substeps == 2
+    for _ in range(ENERGY_FRAMES):
+        c.accept(0.001, damping=-1.0)
+    assert c.substeps > 2 and not c.met
+
+
 def test_energy_made_is_bounded_as_energy_lost_is():
     c = SubstepController(tolerance=0.05, floor=4, cap=128, energy_tolerance=0.05)
     for _ in range(ENERGY_FRAMES):

@@ -19,9 +19,11 @@ carried over no two substeps solve alike, so at few iterations the sheet never q
 rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L,
 docs/accuracy.md; the default scene at 32 cells at up to 3.9 cm/s). What stopping early
 costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
-measures both on an undamped sheet). BDF2, which damps what the substeps resolve far less,
-is the step with behavior.integrator = "bdf2", or "auto" where the scene bounds numerical
-damping (behavior.energy_tolerance).
+measures both on an undamped sheet), and, the pairs learnt on earlier substeps, energy made
+that the solve error does not see: the accuracy control bounds that for this solver with no
+tolerance set (`bounds_energy_made`; substep_control.py). BDF2, which damps what the
+substeps resolve far less, is the step with behavior.integrator = "bdf2", or "auto" where
+the scene bounds numerical damping (behavior.energy_tolerance).
 
 The frame's solve error (`LBFGSSolver.solve_error`, which the accuracy control bounds) is how
 far the solve still had to go when it stopped (`SolveImplicitStep.distance_left`) over the
@@ -253,6 +255,7 @@ class SolveImplicitStep:
 
 class LBFGSSolver(SolverBase):
     name = "lbfgs"
+    bounds_energy_made = True
 
     def __init__(self, model, behavior, forces: list[ForceEffect], h: float,
                  params: StepParams):
