@@ -113,7 +113,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
     def get_default_screen(self) -> Screen:
         """The first screen, born with the breakpoint class of the terminal's width: Textual
         sets it on the first resize, after the panels mount, and a class changed then
-        restyles every widget (~0.2 s of start-up); one already there changes nothing."""
+        restyles every widget; one already there changes nothing."""
         width_class = "-wide" if self.size.width >= WIDE_FROM else NARROW_CLASS
         return Screen(id="_default", classes=width_class)
 

@@ -159,7 +159,7 @@ class SettingField(Horizontal):
                          compact=True, id=wid)
         else:
             yield Input(format_value(v), id=wid, compact=True, select_on_focus=False,
-                        classes=VALID_INPUT_CLASS)  # what Textual would restyle it to
+                        classes=VALID_INPUT_CLASS)  # Textual's own, given before mount
             if m["kind"] == "color":
                 yield Static(" ", classes="swatch", id=wid + "-swatch")
         unit = unit_text(self.dotted, self.spec)
