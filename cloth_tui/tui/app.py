@@ -40,7 +40,7 @@ from .help import HelpScreen
 from .key_order import KeyOrder
 from .memory import freeze_start_up_objects, install_acyclic_strip_divide
 from .messages import Captured, FrameReady, SimDied, SimUpdated
-from .panel_actions import NARROW_CLASS, WIDE_FROM, PanelActions
+from .panel_actions import NARROW_CLASS, WIDE_CLASS, WIDE_FROM, PanelActions
 from .panels import Controls
 from .pixel_preview import PixelPreview
 from .preview import Preview
@@ -66,7 +66,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
     BINDINGS = APP_BINDINGS
     # Narrower than WIDE_FROM, the controls are a drawer over the preview (`c`), which takes
     # the width: at 80 columns a side panel would leave a 34-column picture.
-    HORIZONTAL_BREAKPOINTS = [(0, NARROW_CLASS), (WIDE_FROM, "-wide")]
+    HORIZONTAL_BREAKPOINTS = [(0, NARROW_CLASS), (WIDE_FROM, WIDE_CLASS)]
 
     def __init__(self, scene: Scene, captures_dir: Path, *,
                  renderer_factory: Callable[..., Any] | None = None,
@@ -114,7 +114,7 @@ class ClothApp(KeyOrder, ViewActions, CaptureActions, PanelActions, FabricAction
         """The first screen, born with the breakpoint class of the terminal's width: Textual
         sets it on the first resize, after the panels mount, and a class changed then
         restyles every widget; one already there changes nothing."""
-        width_class = "-wide" if self.size.width >= WIDE_FROM else NARROW_CLASS
+        width_class = WIDE_CLASS if self.size.width >= WIDE_FROM else NARROW_CLASS
         return Screen(id="_default", classes=width_class)
 
     def notify(self, message: str, *, title: str = "", severity: str = "information",

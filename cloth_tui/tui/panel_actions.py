@@ -19,6 +19,7 @@ from .view_actions import typed_digit_notice
 
 WIDE_FROM = 120  # columns; below, the controls are a drawer and the status line is compact
 NARROW_CLASS = "-narrow"
+WIDE_CLASS = "-wide"
 
 
 class PanelActions:
