@@ -115,11 +115,12 @@ def substeps_for(spacing: float, material, frame_rate: float, along: str = "warp
 
 
 def clamped_strip(free_length: float, links: int, material, solver: str | None = None,
-                  along: str = "warp"):
+                  along: str = "warp", behavior: dict | None = None):
     """(scene, across, lengthwise, h): the strip of `links` free links (`lengthwise`
     particles, `across` of them side by side) clamped by its first three, held where the
     flat sheet lies, cut along the warp (x) or the weft (z), solved by `solver` (the
-    reference solver if None); a SceneError if it cannot simulate the material."""
+    reference solver if None) at the lab's substeps and iterations, or with `behavior`'s
+    keys over them; a SceneError if it cannot simulate the material."""
     solver = solver or solver_registry.reference()
     h = free_length_spacing(free_length, links)
     lengthwise = links + HELD_COLUMNS
@@ -130,10 +131,10 @@ def clamped_strip(free_length: float, links: int, material, solver: str | None =
         size, resolution, pin = [length, STRIP_WIDTH], [lengthwise, across], {"cols": held}
     else:
         size, resolution, pin = [STRIP_WIDTH, length], [across, lengthwise], {"rows": held}
+    lab = {"solver": solver, "iterations": ITERATIONS, "frame_rate": FRAME_RATE,
+           "substeps": substeps_for(h, material, FRAME_RATE, along)}
     scene = strip_scene(size=size, resolution=resolution, pins=[pin],
-                        behavior={"solver": solver, "iterations": ITERATIONS,
-                                  "frame_rate": FRAME_RATE,
-                                  "substeps": substeps_for(h, material, FRAME_RATE, along)},
+                        behavior=lab | (behavior or {}),
                         material_section=material_table(
                             material, settling_damping(free_length, material, along)))
     return scene, across, lengthwise, h
@@ -151,13 +152,14 @@ def _tip(sim, across: int, lengthwise: int, along: str) -> tuple[float, float]:
 
 
 def settle_clamped(free_length: float, links: int, material, solver: str | None = None,
-                   along: str = "warp") -> dict:
+                   along: str = "warp", behavior: dict | None = None) -> dict:
     """Runs the clamped strip (cut along the warp or the weft) to rest (its tip still to
     SETTLED_DRIFT·L over each of STILL_CHECKS half periods in a row, and no particle fast
     enough to move that far in one); returns its tip's drop
     and reach from the clamp's edge (m, mean across the strip), the line's angle below
-    horizontal, the wall time and the solve's settings."""
-    scene, across, lengthwise, h = clamped_strip(free_length, links, material, solver, along)
+    horizontal, the wall time and the solve's settings (`behavior`: clamped_strip's)."""
+    scene, across, lengthwise, h = clamped_strip(free_length, links, material, solver, along,
+                                                 behavior)
     sim = warmed_simulation(scene)
     period = first_mode_period(free_length, material, along)
     chunk = max(1, math.ceil(CHECK_PERIODS * period * scene.behavior.frame_rate))

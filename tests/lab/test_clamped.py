@@ -75,3 +75,15 @@ def test_the_peirce_search_follows_a_stiffer_strip():
 def test_a_search_that_cannot_reach_the_angle_says_so():
     with pytest.raises(LabError, match="no overhang found for 41.5°"):
         clamped.peirce_search(lambda overhang: math.radians(10), 0.03)
+
+
+def test_behaviour_keys_given_replace_the_labs_and_leave_the_rest():
+    denim = lab_material("denim")
+    length = clamped.strip_for_load(8.0, denim)
+    lab, *_ = clamped.clamped_strip(length, 10, denim, "xpbd")
+    given, *_ = clamped.clamped_strip(length, 10, denim, "xpbd",
+                                      behavior={"iterations": 3, "adaptive": True})
+    assert lab.behavior.iterations == clamped.ITERATIONS and not lab.behavior.adaptive
+    assert given.behavior.iterations == 3 and given.behavior.adaptive
+    assert given.behavior.substeps == lab.behavior.substeps
+    assert given.behavior.solver == "xpbd"
