@@ -12,12 +12,15 @@ One substep, top to bottom (pipeline.assemble interleaves contacts, tearing and 
                  descend), x += t·d with t halved until Φ falls enough (Armijo); each
                  edge's λ then holds its force
     velocities   update_velocities: v ← (x − x_prev)/h (BDF2: v ← (x − x̂)/h')
-Its minimum is implicit Euler's step on the material's own energy, so the sheet's rest state
-is the fabric's equilibrium at any iteration count (a step that stops early stops at a lower
-Φ on the way there: it slows the motion, it does not move the rest state). But with the pairs
-carried over no two substeps solve alike, so at few iterations the sheet never quite comes to
-rest: it jitters about that state (the lab's clamped strip at 8 iterations by ~1e-3·L,
-docs/accuracy.md; the default scene at 32 cells at up to 3.9 cm/s). What stopping early
+Its minimum is implicit Euler's step on the material's own energy, so a solve run to
+convergence rests at the fabric's equilibrium. One stopped early stops at a lower Φ on the
+way there, near where it started in the directions P resists, and from y a sheet at rest must
+undo its prediction's whole fall: where that fall is across the sheet, held by its bending,
+it does not, and the lab's clamped strip at the default scene's settings creeps and rings
+short of the elastica (docs/physics.md, lbfgs, "Where the solve starts"). With the pairs
+carried over no two substeps solve alike either, so at few iterations the sheet never quite
+comes to rest (the lab's clamped strip at 8 iterations jitters by ~1e-3·L, docs/accuracy.md;
+the default scene at 32 cells moves at up to 3.9 cm/s). What stopping early
 costs is numerical damping, on top of implicit Euler's own (tools/solver_lab/bench.py
 measures both on an undamped sheet), and, the pairs learnt on earlier substeps, energy made
 that the solve error does not see: the accuracy control bounds that for this solver with no
