@@ -20,11 +20,28 @@ from cloth_tui.scene_files import load, parse_override
 from cloth_tui.scene_keys import SceneError
 
 
+def _numbers(kind):
+    """An argparse type: comma-separated numbers of `kind`, each positive."""
+    def parse(text: str) -> list:
+        try:
+            values = [kind(v) for v in text.split(",")]
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: expected numbers such as 2,8,20")
+        if not all(v > 0 for v in values):
+            raise argparse.ArgumentTypeError(f"{text!r}: every number must be positive")
+        return values
+    return parse
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--loads", default="2,8,20", help="wL³/B, comma-separated")
-    parser.add_argument("--links", default="10,20,40", help="free links, comma-separated")
-    parser.add_argument("--material", default="denim")
+    parser = argparse.ArgumentParser(
+        description="The lab's clamped strip at the default scene's behaviour (or the keys "
+                    "given): its settled tip drop against the heavy elastica.")
+    parser.add_argument("--loads", type=_numbers(float), default=[2.0, 8.0, 20.0],
+                        help="wL³/B, comma-separated (default 2,8,20)")
+    parser.add_argument("--links", type=_numbers(int), default=[10, 20, 40],
+                        help="free links, comma-separated (default 10,20,40)")
+    parser.add_argument("--material", default="denim", help="a preset (default denim)")
     parser.add_argument("keys", nargs="*", help="behaviour key=value over the default's")
     args = parser.parse_args()
     default = load("default").behavior
@@ -36,12 +53,15 @@ def main() -> None:
         except SceneError as e:
             parser.error(str(e))
         behavior[key.removeprefix("behavior.")] = value
-    material = lab_material(args.material)
+    try:
+        material = lab_material(args.material)
+    except LabError as e:
+        parser.error(str(e))
     print(f"{args.material}, behaviour {behavior}")
-    for load_ratio in (float(v) for v in args.loads.split(",")):
+    for load_ratio in args.loads:
         length = clamped.strip_for_load(load_ratio, material)
         want = cantilever(load_ratio).tip_drop
-        for links in (int(v) for v in args.links.split(",")):
+        for links in args.links:
             start = time.perf_counter()
             try:
                 r = clamped.settle_clamped(length, links, material, behavior=behavior)
