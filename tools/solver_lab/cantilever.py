@@ -11,6 +11,7 @@ docs/physics.md (lbfgs, "Where the solve starts") has what this printed.
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 from cloth_tui.lab import clamped
@@ -21,14 +22,15 @@ from cloth_tui.scene_keys import SceneError
 
 
 def _numbers(kind):
-    """An argparse type: comma-separated numbers of `kind`, each positive."""
+    """An argparse type: comma-separated numbers of `kind`, each positive and finite."""
     def parse(text: str) -> list:
         try:
             values = [kind(v) for v in text.split(",")]
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r}: expected numbers such as 2,8,20")
-        if not all(v > 0 for v in values):
-            raise argparse.ArgumentTypeError(f"{text!r}: every number must be positive")
+        if not all(0 < v < math.inf for v in values):
+            raise argparse.ArgumentTypeError(f"{text!r}: every number must be positive "
+                                             "and finite")
         return values
     return parse
 

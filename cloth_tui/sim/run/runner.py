@@ -80,7 +80,7 @@ class Simulation:
             self.control.made_tolerance = ENERGY_MADE_TOLERANCE
         # A solver that leaves no solve error (springs stretch as their stiffness says,
         # whatever the step): the tolerance is reported, the substeps are the guard's alone.
-        if self.step.solver is not None and self._solve_error() is None:
+        if solver is not None and self._solve_error() is None:
             self.control.adaptive = False
 
     def _build_step(self) -> None:
